@@ -1,0 +1,177 @@
+//! `volley headless`: step a scene through the same loop the window uses, print the table.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use volley::clock::VirtualClock;
+use volley::scene::{self, Scene};
+use volley::table::{Format, Summary, TableWriter};
+use volley::{Integrator, LoopError, SimLoop, World};
+
+use super::{EXIT_DIVERGED, EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail, resolve_scene};
+
+/// Arguments of `volley headless`.
+#[derive(Args, Clone)]
+pub struct HeadlessArgs {
+    /// Scene file, or the name of a bundled scene (see `volley scenes`).
+    pub scene: String,
+    /// Ticks to run (default: the scene's duration).
+    #[arg(long, conflicts_with = "until")]
+    pub ticks: Option<u64>,
+    /// Run until this sim time (s).
+    #[arg(long)]
+    pub until: Option<f64>,
+    /// Integrator: explicit-euler, semi-implicit-euler, verlet, midpoint, rk4, implicit-euler,
+    /// exact.
+    #[arg(long)]
+    pub integrator: Option<String>,
+    /// Timestep (s), rounded to whole nanoseconds.
+    #[arg(long)]
+    pub dt: Option<f64>,
+    /// Integrator steps per tick.
+    #[arg(long)]
+    pub substeps: Option<u32>,
+    /// Print a row every K ticks.
+    #[arg(long, default_value_t = 1)]
+    pub every: u64,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+    /// Decimals in the aligned table.
+    #[arg(long, default_value_t = 4)]
+    pub precision: usize,
+    /// Print events and the summary only, no rows.
+    #[arg(long)]
+    pub no_table: bool,
+    /// Worker threads for stepping (results are identical for any count).
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+    /// Command script (`TICK: COMMAND` lines) applied during the run.
+    #[arg(long)]
+    pub commands: Option<PathBuf>,
+}
+
+impl HeadlessArgs {
+    /// Defaults for `scene`, as if only the scene were given.
+    pub fn for_scene(scene: &str) -> HeadlessArgs {
+        HeadlessArgs {
+            scene: scene.to_string(),
+            ticks: None,
+            until: None,
+            integrator: None,
+            dt: None,
+            substeps: None,
+            every: 1,
+            format: Format::Table,
+            precision: 4,
+            no_table: false,
+            threads: 1,
+            commands: None,
+        }
+    }
+}
+
+/// Until the window lands: run the default scene headless and print events and its summary.
+pub fn default_run() -> Result<(), Failure> {
+    run(&HeadlessArgs {
+        no_table: true,
+        ..HeadlessArgs::for_scene("seed")
+    })
+}
+
+/// Parses an integrator name for a flag, listing the valid names on error.
+pub fn parse_integrator(flag: &str, name: &str) -> Result<Integrator, Failure> {
+    Integrator::parse(name).ok_or_else(|| {
+        let names: Vec<_> = Integrator::ALL.iter().map(|i| i.name()).collect();
+        fail(
+            EXIT_INPUT,
+            format!("{flag}: unknown `{name}`, expected one of {}", names.join(", ")),
+        )
+    })
+}
+
+/// Loads the scene and applies the run's overrides (dt, substeps, integrator).
+pub fn load_scene(args: &HeadlessArgs) -> Result<Scene, Failure> {
+    let path = resolve_scene(&args.scene)?;
+    let mut scene = scene::load(&path).map_err(|e| fail(EXIT_INPUT, e))?;
+    if let Some(dt) = args.dt {
+        scene
+            .set_dt(dt)
+            .map_err(|e| fail(EXIT_INPUT, format!("--dt: {e}")))?;
+    }
+    if let Some(n) = args.substeps {
+        scene
+            .set_substeps(n)
+            .map_err(|e| fail(EXIT_INPUT, format!("--substeps: {e}")))?;
+    }
+    if let Some(name) = &args.integrator {
+        let integrator = parse_integrator("--integrator", name)?;
+        scene
+            .set_integrator(integrator)
+            .map_err(|e| fail(EXIT_INPUT, format!("--integrator: {e}")))?;
+    }
+    Ok(scene)
+}
+
+/// Ticks a run covers: `--ticks`, `--until`, or the scene's duration.
+pub fn run_length(args: &HeadlessArgs, scene: &Scene) -> Result<u64, Failure> {
+    match (args.ticks, args.until) {
+        (Some(n), _) => Ok(n),
+        (None, Some(t)) if t.is_finite() => Ok(scene.ticks_until(t)),
+        (None, Some(t)) => Err(fail(
+            EXIT_INPUT,
+            format!("--until: expected a finite time, got {t}"),
+        )),
+        (None, None) => Ok(scene.ticks_until(scene.start_time + scene.duration)),
+    }
+}
+
+/// Reads a command script, if one was given.
+pub fn load_commands(path: Option<&PathBuf>) -> Result<Vec<volley::Stamped>, Failure> {
+    let Some(path) = path else {
+        return Ok(Vec::new());
+    };
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| fail(EXIT_INPUT, format!("{}: cannot read: {e}", path.display())))?;
+    volley::command::parse_script(&text, &path.display().to_string())
+        .map_err(|e| fail(EXIT_INPUT, e))
+}
+
+/// Maps a loop error to the CLI's exit codes.
+pub fn loop_failure(e: LoopError) -> Failure {
+    match e {
+        LoopError::Diverged(d) => fail(EXIT_DIVERGED, d),
+        LoopError::Command { .. } => fail(EXIT_INPUT, e),
+        LoopError::Observer(e) => fail(EXIT_ENVIRONMENT, e),
+    }
+}
+
+/// Runs the scene and prints rows, events and the summary; a divergence keeps what was printed.
+pub fn run(args: &HeadlessArgs) -> Result<(), Failure> {
+    let scene = load_scene(args)?;
+    let ticks = run_length(args, &scene)?;
+    let commands = load_commands(args.commands.as_ref())?;
+    let mut world = World::new(&scene);
+    world.set_threads(args.threads);
+    let mut sim = SimLoop::new(world);
+    sim.schedule(commands);
+    let stdout = std::io::stdout().lock();
+    let mut table = TableWriter::new(
+        std::io::BufWriter::new(stdout),
+        args.format,
+        args.every,
+        args.precision,
+        !args.no_table,
+    );
+    let io = |e: volley::sim_loop::ObserverError| fail(EXIT_ENVIRONMENT, e);
+    table.header().map_err(io)?;
+    if !args.no_table {
+        table.rows(&sim.world).map_err(io)?;
+    }
+    let mut source = VirtualClock::Steady(scene.timestep);
+    let outcome = sim.run_until(ticks, &mut source, &mut table);
+    table.flush().map_err(io)?;
+    outcome.map_err(loop_failure)?;
+    table.summary(&Summary::of(&sim.world)).map_err(io)
+}

@@ -1,0 +1,433 @@
+//! The force terms a scene can declare.
+//!
+//! A scene lists its terms; [`Forces`] holds one optional slot per kind and a step evaluates only
+//! the slots that are filled, summed in the fixed order of the fields below (the order is part of
+//! the bit-exact result). Scenes whose only terms are uniform gravity and a constant force are
+//! stepped through [`ConstantField`], a model whose force is a compile-time constant expression
+//! per body, so such scenes pay for nothing else; the choice is made once per tick, never per body.
+//!
+//! Every term is conservative or dissipative, so a body's mechanical energy
+//! ([`ForceModel::energy`]) never grows between commands; the divergence guard relies on that.
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+/// Net force on one body, the only physics a step needs from a force description.
+///
+/// Implemented by [`ConstantField`] (gravity and constant force only) and [`Forces`] (any
+/// declared terms). Integrators are generic over it, so the choice of model is resolved at
+/// compile time inside the per-body loop.
+pub trait ForceModel: Sync {
+    /// Net force (N) on a body of mass `m` (kg) at position `p` (m) with velocity `v` (m/s).
+    fn force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3;
+    /// Whether [`ForceModel::force`] reads `v`. Velocity Verlet uses it to pick its variant.
+    fn velocity_dependent(&self) -> bool;
+    /// The terms that are linear in (p, v), as used by implicit Euler, for a body of mass `m`.
+    fn linear_part(&self, m: f64) -> LinearPart;
+    /// Force from the terms [`ForceModel::linear_part`] leaves out (treated explicitly).
+    fn nonlinear_force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3;
+    /// Mechanical energy (J) of one body: kinetic plus the potential of every conservative term.
+    fn energy(&self, p: DVec3, v: DVec3, m: f64) -> f64;
+}
+
+/// The linear part of an acceleration: `a = a0 - kd v - w2 (p - anchor)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinearPart {
+    /// Constant acceleration (m/s^2): gravity plus constant force over mass.
+    pub a0: DVec3,
+    /// Velocity damping rate (1/s): linear drag and spring damping over mass.
+    pub kd: f64,
+    /// Squared angular frequency (1/s^2) of a zero-rest-length spring, k/m.
+    pub w2: f64,
+    /// Anchor of that spring (m); irrelevant when `w2` is 0.
+    pub anchor: DVec3,
+}
+
+/// A spring from every body to a fixed anchor: `F = -k (|d| - L) d/|d| - c v`, `d = p - anchor`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Spring {
+    /// Anchor point (m).
+    pub anchor: DVec3,
+    /// Stiffness k (N/m).
+    pub stiffness: f64,
+    /// Rest length L (m). With 0 the spring is linear in p and implicit Euler treats it implicitly.
+    #[serde(default)]
+    pub rest_length: f64,
+    /// Damping c (N s/m) against the body's velocity.
+    #[serde(default)]
+    pub damping: f64,
+}
+
+/// Newtonian attraction to a fixed point mass: `F = -m mu d/|d|^3`, `d = p - center`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointMass {
+    /// Position of the attracting mass (m).
+    pub center: DVec3,
+    /// Gravitational parameter mu = G M (m^3/s^2).
+    pub mu: f64,
+}
+
+/// The kinds of force term, used to toggle a term and to name one in errors.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum ForceKind {
+    /// Uniform gravitational acceleration.
+    Gravity,
+    /// A constant force such as wind or thrust.
+    ConstantForce,
+    /// Drag proportional to velocity.
+    LinearDrag,
+    /// Drag proportional to speed squared.
+    QuadraticDrag,
+    /// Spring to an anchor.
+    Spring,
+    /// Attraction to a point mass.
+    PointMass,
+}
+
+impl ForceKind {
+    /// Every kind, in evaluation order.
+    pub const ALL: [ForceKind; 6] = [
+        ForceKind::Gravity,
+        ForceKind::ConstantForce,
+        ForceKind::LinearDrag,
+        ForceKind::QuadraticDrag,
+        ForceKind::Spring,
+        ForceKind::PointMass,
+    ];
+
+    /// The name used in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            ForceKind::Gravity => "Gravity",
+            ForceKind::ConstantForce => "ConstantForce",
+            ForceKind::LinearDrag => "LinearDrag",
+            ForceKind::QuadraticDrag => "QuadraticDrag",
+            ForceKind::Spring => "Spring",
+            ForceKind::PointMass => "PointMass",
+        }
+    }
+
+    /// Parses a name as written by [`ForceKind::name`], ignoring ASCII case.
+    pub fn parse(name: &str) -> Option<ForceKind> {
+        ForceKind::ALL
+            .into_iter()
+            .find(|k| k.name().eq_ignore_ascii_case(name))
+    }
+}
+
+/// The declared force terms of a scene, at most one of each kind.
+///
+/// An empty slot is never evaluated. Fields are public plain data, as in a scene file.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Forces {
+    /// Gravitational acceleration g (m/s^2), usually (0, 0, -9.81): `F = m g`.
+    pub gravity: Option<DVec3>,
+    /// A constant force (N) on every body, e.g. wind or thrust.
+    pub constant: Option<DVec3>,
+    /// Linear drag coefficient b (N s/m = kg/s): `F = -b v`.
+    pub linear_drag: Option<f64>,
+    /// Quadratic drag coefficient c (N s^2/m^2 = kg/m): `F = -c |v| v`.
+    pub quadratic_drag: Option<f64>,
+    /// Spring to an anchor.
+    pub spring: Option<Spring>,
+    /// Attraction to a point mass.
+    pub point_mass: Option<PointMass>,
+}
+
+impl Forces {
+    /// Whether the term of `kind` is declared.
+    pub fn has(&self, kind: ForceKind) -> bool {
+        match kind {
+            ForceKind::Gravity => self.gravity.is_some(),
+            ForceKind::ConstantForce => self.constant.is_some(),
+            ForceKind::LinearDrag => self.linear_drag.is_some(),
+            ForceKind::QuadraticDrag => self.quadratic_drag.is_some(),
+            ForceKind::Spring => self.spring.is_some(),
+            ForceKind::PointMass => self.point_mass.is_some(),
+        }
+    }
+
+    /// The declared kinds, in evaluation order.
+    pub fn kinds(&self) -> impl Iterator<Item = ForceKind> + '_ {
+        ForceKind::ALL.into_iter().filter(|k| self.has(*k))
+    }
+
+    /// A copy with the term of `kind` removed.
+    pub fn without(mut self, kind: ForceKind) -> Forces {
+        match kind {
+            ForceKind::Gravity => self.gravity = None,
+            ForceKind::ConstantForce => self.constant = None,
+            ForceKind::LinearDrag => self.linear_drag = None,
+            ForceKind::QuadraticDrag => self.quadratic_drag = None,
+            ForceKind::Spring => self.spring = None,
+            ForceKind::PointMass => self.point_mass = None,
+        }
+        self
+    }
+
+    /// A copy keeping only the kinds for which `keep` is true.
+    pub fn filtered(self, keep: impl Fn(ForceKind) -> bool) -> Forces {
+        ForceKind::ALL
+            .into_iter()
+            .filter(|k| !keep(*k))
+            .fold(self, |f, k| f.without(k))
+    }
+
+    /// The same forces as a [`ConstantField`], if gravity and a constant force are all there is.
+    pub fn constant_field(&self) -> Option<ConstantField> {
+        let only_constant = self.kinds().all(|k| {
+            matches!(k, ForceKind::Gravity | ForceKind::ConstantForce)
+        });
+        only_constant.then(|| ConstantField {
+            gravity: self.gravity.unwrap_or(DVec3::ZERO),
+            force: self.constant.unwrap_or(DVec3::ZERO),
+        })
+    }
+
+    /// The first declared term that has no closed-form solution in `exact`, if any.
+    ///
+    /// Constant force and linear drag (with gravity) have one; quadratic drag, springs and point
+    /// masses are refused because `exact` evaluates the solution rather than approximating it.
+    pub fn without_closed_form(&self) -> Option<ForceKind> {
+        self.kinds().find(|k| {
+            matches!(
+                k,
+                ForceKind::QuadraticDrag | ForceKind::Spring | ForceKind::PointMass
+            )
+        })
+    }
+
+    /// Uniform acceleration (m/s^2) from gravity plus constant force, for a body of mass `m`.
+    #[inline]
+    fn uniform_accel(&self, m: f64) -> DVec3 {
+        let mut a = DVec3::ZERO;
+        if let Some(g) = self.gravity {
+            a += g;
+        }
+        if let Some(f) = self.constant {
+            a += f / m;
+        }
+        a
+    }
+
+    /// Linear drag rate b/m (1/s) for a body of mass `m`, 0 if undeclared.
+    #[inline]
+    pub fn drag_rate(&self, m: f64) -> f64 {
+        self.linear_drag.map_or(0.0, |b| b / m)
+    }
+}
+
+impl ForceModel for Forces {
+    #[inline]
+    fn force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3 {
+        let mut f = DVec3::ZERO;
+        if let Some(g) = self.gravity {
+            f += m * g;
+        }
+        if let Some(c) = self.constant {
+            f += c;
+        }
+        if let Some(b) = self.linear_drag {
+            f -= b * v;
+        }
+        if let Some(c) = self.quadratic_drag {
+            f -= (c * v.length()) * v;
+        }
+        if let Some(s) = self.spring {
+            f += spring_force(&s, p, v);
+        }
+        if let Some(pm) = self.point_mass {
+            f += point_mass_force(&pm, p, m);
+        }
+        f
+    }
+
+    fn velocity_dependent(&self) -> bool {
+        self.linear_drag.is_some()
+            || self.quadratic_drag.is_some()
+            || self.spring.is_some_and(|s| s.damping != 0.0)
+    }
+
+    #[inline]
+    fn linear_part(&self, m: f64) -> LinearPart {
+        let mut part = LinearPart {
+            a0: self.uniform_accel(m),
+            kd: self.drag_rate(m),
+            w2: 0.0,
+            anchor: DVec3::ZERO,
+        };
+        if let Some(s) = self.spring {
+            part.kd += s.damping / m;
+            if s.rest_length == 0.0 {
+                part.w2 = s.stiffness / m;
+                part.anchor = s.anchor;
+            }
+        }
+        part
+    }
+
+    #[inline]
+    fn nonlinear_force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3 {
+        let mut f = DVec3::ZERO;
+        if let Some(c) = self.quadratic_drag {
+            f -= (c * v.length()) * v;
+        }
+        if let Some(s) = self.spring
+            && s.rest_length != 0.0
+        {
+            f += spring_force(&Spring { damping: 0.0, ..s }, p, v);
+        }
+        if let Some(pm) = self.point_mass {
+            f += point_mass_force(&pm, p, m);
+        }
+        f
+    }
+
+    fn energy(&self, p: DVec3, v: DVec3, m: f64) -> f64 {
+        let mut e = 0.5 * m * v.length_squared();
+        if let Some(g) = self.gravity {
+            e -= m * g.dot(p);
+        }
+        if let Some(c) = self.constant {
+            e -= c.dot(p);
+        }
+        if let Some(s) = self.spring {
+            let stretch = (p - s.anchor).length() - s.rest_length;
+            e += 0.5 * s.stiffness * stretch * stretch;
+        }
+        if let Some(pm) = self.point_mass {
+            e -= m * pm.mu / (p - pm.center).length();
+        }
+        e
+    }
+}
+
+#[inline]
+fn spring_force(s: &Spring, p: DVec3, v: DVec3) -> DVec3 {
+    let d = p - s.anchor;
+    let pull = if s.rest_length == 0.0 {
+        -s.stiffness * d
+    } else {
+        let len = d.length();
+        if len == 0.0 {
+            // Direction undefined at the anchor: no spring force (the rest length is a sphere).
+            DVec3::ZERO
+        } else {
+            (-s.stiffness * (len - s.rest_length) / len) * d
+        }
+    };
+    pull - s.damping * v
+}
+
+#[inline]
+fn point_mass_force(pm: &PointMass, p: DVec3, m: f64) -> DVec3 {
+    let d = p - pm.center;
+    let r2 = d.length_squared();
+    let r = r2.sqrt();
+    (-m * pm.mu / (r2 * r)) * d
+}
+
+/// Gravity plus a constant force, nothing else: the cheapest model, chosen automatically.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConstantField {
+    /// Gravitational acceleration (m/s^2); zero if undeclared.
+    pub gravity: DVec3,
+    /// Constant force (N); zero if undeclared.
+    pub force: DVec3,
+}
+
+impl ForceModel for ConstantField {
+    #[inline(always)]
+    fn force(&self, _p: DVec3, _v: DVec3, m: f64) -> DVec3 {
+        m * self.gravity + self.force
+    }
+
+    fn velocity_dependent(&self) -> bool {
+        false
+    }
+
+    #[inline(always)]
+    fn linear_part(&self, m: f64) -> LinearPart {
+        LinearPart {
+            a0: self.gravity + self.force / m,
+            kd: 0.0,
+            w2: 0.0,
+            anchor: DVec3::ZERO,
+        }
+    }
+
+    #[inline(always)]
+    fn nonlinear_force(&self, _p: DVec3, _v: DVec3, _m: f64) -> DVec3 {
+        DVec3::ZERO
+    }
+
+    fn energy(&self, p: DVec3, v: DVec3, m: f64) -> f64 {
+        0.5 * m * v.length_squared() - m * self.gravity.dot(p) - self.force.dot(p)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constant_field_matches_general_model_bit_for_bit() {
+        let forces = Forces {
+            gravity: Some(DVec3::new(0.0, 0.0, -9.81)),
+            constant: Some(DVec3::new(1.5, 0.0, 0.0)),
+            ..Forces::default()
+        };
+        let field = forces.constant_field().expect("only constant terms are declared");
+        let (p, v, m) = (DVec3::new(1.0, 2.0, 3.0), DVec3::new(-4.0, 5.0, 6.0), 2.5);
+        assert_eq!(field.force(p, v, m), forces.force(p, v, m));
+        assert_eq!(field.energy(p, v, m), forces.energy(p, v, m));
+    }
+
+    #[test]
+    fn drag_disqualifies_the_constant_field() {
+        let forces = Forces {
+            gravity: Some(DVec3::NEG_Z),
+            linear_drag: Some(0.1),
+            ..Forces::default()
+        };
+        assert!(forces.constant_field().is_none());
+        assert!(forces.velocity_dependent());
+    }
+
+    #[test]
+    fn closed_form_is_refused_by_the_first_term_without_one() {
+        let forces = Forces {
+            gravity: Some(DVec3::NEG_Z),
+            spring: Some(Spring {
+                anchor: DVec3::ZERO,
+                stiffness: 1.0,
+                rest_length: 0.0,
+                damping: 0.0,
+            }),
+            ..Forces::default()
+        };
+        assert_eq!(forces.without_closed_form(), Some(ForceKind::Spring));
+    }
+
+    #[test]
+    fn linear_spring_is_split_into_the_implicit_part() {
+        let forces = Forces {
+            spring: Some(Spring {
+                anchor: DVec3::X,
+                stiffness: 8.0,
+                rest_length: 0.0,
+                damping: 2.0,
+            }),
+            linear_drag: Some(1.0),
+            ..Forces::default()
+        };
+        let part = forces.linear_part(2.0);
+        assert_eq!((part.kd, part.w2, part.anchor), (1.5, 4.0, DVec3::X));
+        assert_eq!(
+            forces.nonlinear_force(DVec3::ONE, DVec3::ONE, 2.0),
+            DVec3::ZERO
+        );
+    }
+}

@@ -1,0 +1,54 @@
+//! The `volley` command line: parses arguments, calls the library, prints, picks the exit code.
+//!
+//! Exit codes: 0 success; 1 a replay failed verification; 2 bad input (arguments, scene, command
+//! script, recording); 3 the simulation diverged; 4 an environment failure (no GPU adapter, no
+//! display, an I/O error).
+//!
+//! Each subcommand lives in its own file under `src/cli/`.
+
+mod cli;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "volley",
+    version,
+    about = "A game-loop sandbox for the numerics of game physics"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Cmd>,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Step a scene without a window and print its state table and summary.
+    Headless(cli::headless::HeadlessArgs),
+    /// Solve both launch angles that hit a target at a given speed.
+    Aim(cli::aim::AimArgs),
+    /// List the bundled scenes.
+    Scenes,
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return cli::usage_error(e),
+    };
+    let result = match cli.command {
+        Some(Cmd::Headless(args)) => cli::headless::run(&args),
+        Some(Cmd::Aim(args)) => cli::aim::run(&args),
+        Some(Cmd::Scenes) => cli::scenes::run(),
+        None => cli::headless::default_run(),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => {
+            eprintln!("error: {}", f.message);
+            ExitCode::from(f.code)
+        }
+    }
+}

@@ -1,0 +1,202 @@
+//! The one fixed-timestep loop every mode runs: window, headless, record, replay, study.
+//!
+//! A frame delta goes into the [`FixedClock`]; for each tick it grants, the commands stamped at
+//! the current tick are applied, the world steps, and the observer sees the result. Window and
+//! headless differ only in where the deltas come from ([`crate::clock::FrameSource`]) and in the
+//! observer (renderer, table writer, recorder, or nothing).
+
+use std::collections::VecDeque;
+use std::time::Duration;
+
+use crate::clock::{FixedClock, FrameSource, FrameTicks};
+use crate::command::{Command, CommandError, Stamped};
+use crate::world::{Divergence, World};
+
+/// Sees the loop's ticks: table writers, recorders, renderers.
+pub trait TickObserver {
+    /// A command was applied at tick `stamped.tick` (before that tick's step).
+    fn on_command(&mut self, _world: &World, _stamped: &Stamped) -> Result<(), ObserverError> {
+        Ok(())
+    }
+    /// The next tick is the last of this frame: the state now is the "previous" state a
+    /// renderer interpolates from.
+    fn before_last_tick(&mut self, _world: &World) {}
+    /// A tick finished.
+    fn after_tick(&mut self, _world: &World) -> Result<(), ObserverError> {
+        Ok(())
+    }
+    /// The world diverged at its current tick (its state is the bad one).
+    fn on_divergence(&mut self, _world: &World, _divergence: &Divergence) {}
+}
+
+/// An observer that does nothing.
+impl TickObserver for () {}
+
+/// An observer failed (a write error, a full disk); the loop stops.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ObserverError(pub String);
+
+impl std::fmt::Display for ObserverError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ObserverError {}
+
+/// Why the loop stopped early.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LoopError {
+    /// The simulation diverged.
+    Diverged(Divergence),
+    /// A command could not be applied.
+    Command {
+        /// Tick it was due at.
+        tick: u64,
+        /// The command.
+        command: Command,
+        /// Why.
+        error: CommandError,
+    },
+    /// An observer failed.
+    Observer(ObserverError),
+}
+
+impl std::fmt::Display for LoopError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LoopError::Diverged(d) => write!(f, "{d}"),
+            LoopError::Command {
+                tick,
+                command,
+                error,
+            } => write!(f, "command `{tick}: {command}` failed: {error}"),
+            LoopError::Observer(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for LoopError {}
+
+impl From<ObserverError> for LoopError {
+    fn from(e: ObserverError) -> Self {
+        LoopError::Observer(e)
+    }
+}
+
+/// The world, its clock, and the commands waiting for their tick.
+#[derive(Debug)]
+pub struct SimLoop {
+    /// The simulation.
+    pub world: World,
+    /// The fixed-timestep clock.
+    pub clock: FixedClock,
+    queue: VecDeque<Stamped>,
+    stop_at: Option<u64>,
+}
+
+impl SimLoop {
+    /// A loop over `world` with a clock at the world's timestep.
+    pub fn new(world: World) -> SimLoop {
+        let clock = FixedClock::new(world.scene().timestep);
+        SimLoop {
+            world,
+            clock,
+            queue: VecDeque::new(),
+            stop_at: None,
+        }
+    }
+
+    /// Queues commands (sorted by tick, as a script is); each applies when its tick comes.
+    pub fn schedule(&mut self, commands: impl IntoIterator<Item = Stamped>) {
+        self.queue.extend(commands);
+        self.queue.make_contiguous().sort_by_key(|c| c.tick);
+    }
+
+    /// Queues a command for the next tick boundary (window input).
+    pub fn push(&mut self, command: Command) {
+        let tick = self.world.tick();
+        self.schedule([Stamped { tick, command }]);
+    }
+
+    /// Runs no tick past `tick`: frames that would run more leave the time in the accumulator.
+    pub fn stop_at(&mut self, tick: Option<u64>) {
+        self.stop_at = tick;
+    }
+
+    /// Whether the stop tick has been reached.
+    pub fn finished(&self) -> bool {
+        self.stop_at.is_some_and(|t| self.world.tick() >= t)
+    }
+
+    /// One frame: advance the clock by `delta` and run the ticks it grants.
+    pub fn frame(
+        &mut self,
+        delta: Duration,
+        observer: &mut impl TickObserver,
+    ) -> Result<FrameTicks, LoopError> {
+        let mut ticks = self.clock.advance(delta);
+        if let Some(stop) = self.stop_at {
+            let allowed = stop.saturating_sub(self.world.tick());
+            if u64::from(ticks.steps) > allowed {
+                let unrun = ticks.steps - allowed as u32;
+                self.clock.return_ticks(unrun);
+                ticks.steps = allowed as u32;
+                ticks.alpha = self.clock.alpha();
+            }
+        }
+        for k in 0..ticks.steps {
+            self.apply_due(observer)?;
+            if k + 1 == ticks.steps {
+                observer.before_last_tick(&self.world);
+            }
+            if let Err(d) = self.world.step() {
+                observer.on_divergence(&self.world, &d);
+                return Err(LoopError::Diverged(d));
+            }
+            observer.after_tick(&self.world)?;
+        }
+        Ok(ticks)
+    }
+
+    /// Applies every queued command due at or before the current tick.
+    fn apply_due(&mut self, observer: &mut impl TickObserver) -> Result<(), LoopError> {
+        let tick = self.world.tick();
+        while self.queue.front().is_some_and(|c| c.tick <= tick) {
+            let Some(due) = self.queue.pop_front() else {
+                break;
+            };
+            let applied = Stamped {
+                tick,
+                command: due.command,
+            };
+            self.world
+                .apply(&due.command)
+                .map_err(|error| LoopError::Command {
+                    tick: due.tick,
+                    command: due.command,
+                    error,
+                })?;
+            observer.on_command(&self.world, &applied)?;
+        }
+        Ok(())
+    }
+
+    /// Runs frames from `source` until the world reaches `tick`.
+    pub fn run_until(
+        &mut self,
+        tick: u64,
+        source: &mut impl FrameSource,
+        observer: &mut impl TickObserver,
+    ) -> Result<(), LoopError> {
+        let previous = self.stop_at.replace(tick);
+        let result = (|| {
+            while self.world.tick() < tick {
+                self.frame(source.next_delta(), observer)?;
+            }
+            Ok(())
+        })();
+        self.stop_at = previous;
+        result
+    }
+}

@@ -1,0 +1,394 @@
+//! One tick as a short list of named stages.
+//!
+//! ```text
+//! step:  integrate (declared forces only) -> contacts (inline, only near a surface or target)
+//!        -> non-finite check (inline) -> energy guard (every `guard.every` ticks)
+//! ```
+//!
+//! Commands are applied by [`crate::World::apply`] before a step, at the tick boundary; hashing
+//! is on demand ([`crate::hash::state_hash`]); neither happens inside a step.
+//!
+//! The integrate stage is one loop over the bodies, monomorphised over the integrator and the
+//! force model ([`crate::integrate::visit`]) and over whether the scene has any contacts, so a
+//! scene pays for exactly what it declares. With several threads the bodies are split into
+//! contiguous chunks ([`rayon::join`]); each chunk writes its own event buffer and the buffers
+//! are concatenated in chunk order, and the per-body arithmetic does not depend on the chunking,
+//! so the state and the events are bit-identical for every thread count.
+
+use glam::DVec3;
+
+use crate::contact::{self, Event, Particle, StepFrame};
+use crate::forces::ForceModel;
+use crate::integrate::{BodyState, Mass, Scheme, SchemeVisitor, visit};
+use crate::world::{BodyId, Divergence, DivergenceCause, World};
+
+/// Bodies per chunk below which stepping stays on one thread.
+pub const PARALLEL_MIN_CHUNK: usize = 16 * 1024;
+
+impl World {
+    /// Advances the world by one tick (`substeps` integrator steps), or returns the divergence
+    /// that stopped it. A stopped world stays stopped and keeps the state it stopped at.
+    pub fn step(&mut self) -> Result<(), Divergence> {
+        if let Some(d) = self.diverged {
+            return Err(d);
+        }
+        self.events.clear();
+        let next_tick = self.tick + 1;
+        let h_sub = self.h / f64::from(self.substeps);
+        for k in 0..self.substeps {
+            let t0 = self.time_of(self.tick) + f64::from(k) * h_sub;
+            if let Some(i) = self.integrate(next_tick, t0, h_sub) {
+                self.tick = next_tick;
+                return Err(self.stop(i, DivergenceCause::NonFinite));
+            }
+        }
+        self.tick = next_tick;
+        self.guard_energy()
+    }
+
+    fn stop(&mut self, i: usize, cause: DivergenceCause) -> Divergence {
+        let d = Divergence {
+            tick: self.tick,
+            body: self.bodies.id[i],
+            cause,
+        };
+        self.diverged = Some(d);
+        d
+    }
+
+    /// Integrate + contacts over all bodies; returns the first body whose state is not finite.
+    fn integrate(&mut self, tick: u64, t0: f64, h: f64) -> Option<usize> {
+        let n = self.bodies.len();
+        let chunks = if self.threads > 1 && n >= 2 * PARALLEL_MIN_CHUNK {
+            self.threads.min(n / PARALLEL_MIN_CHUNK)
+        } else {
+            1
+        };
+        if self.chunk_events.len() < chunks {
+            self.chunk_events.resize_with(chunks, Vec::new);
+        }
+        let carries = self.integrator == crate::Integrator::VelocityVerlet;
+        if carries && self.carry.len() != n {
+            self.carry.resize(n);
+            self.carry_valid = false;
+        }
+        let gravity = self.forces.gravity.map_or(0.0, DVec3::length);
+        let frame = StepFrame {
+            contacts: &self.contacts,
+            tick,
+            t0,
+            h,
+            rest_speed: gravity * h,
+        };
+        let b = &mut self.bodies;
+        let (cx, cy, cz): (&mut [f64], &mut [f64], &mut [f64]) = if carries {
+            (&mut self.carry.x, &mut self.carry.y, &mut self.carry.z)
+        } else {
+            (&mut [], &mut [], &mut [])
+        };
+        let lanes = Lanes {
+            offset: 0,
+            ids: &b.id,
+            px: &mut b.p.x,
+            py: &mut b.p.y,
+            pz: &mut b.p.z,
+            mx: &mut b.mv.x,
+            my: &mut b.mv.y,
+            mz: &mut b.mv.z,
+            cx,
+            cy,
+            cz,
+            mass: &b.mass,
+            inv_mass: &b.inv_mass,
+            radius: &b.radius,
+        };
+        let out = visit(
+            self.integrator,
+            &self.forces,
+            Integrate {
+                lanes,
+                frame: &frame,
+                events: &mut self.chunk_events[..chunks],
+                carry_valid: self.carry_valid,
+            },
+        );
+        self.carry_valid = carries;
+        self.force_evals += out.evals;
+        for buffer in &mut self.chunk_events[..chunks] {
+            self.events.extend_from_slice(buffer);
+            buffer.clear();
+        }
+        out.first_non_finite
+    }
+
+    /// The energy guard stage: every `guard.every` ticks, the first body whose energy passed
+    /// its bound stops the run.
+    fn guard_energy(&mut self) -> Result<(), Divergence> {
+        let every = u64::from(self.scene.guard.every);
+        if every == 0 || !self.tick.is_multiple_of(every) {
+            return Ok(());
+        }
+        let found = match self.forces.constant_field() {
+            Some(field) => first_over_cap(&self.bodies, &field),
+            None => first_over_cap(&self.bodies, &self.forces),
+        };
+        match found {
+            Some((i, energy)) => {
+                let bound = self.bodies.energy_cap[i];
+                Err(self.stop(i, DivergenceCause::EnergyGrowth { energy, bound }))
+            }
+            None => Ok(()),
+        }
+    }
+}
+
+fn first_over_cap<F: ForceModel>(b: &crate::world::Bodies, f: &F) -> Option<(usize, f64)> {
+    (0..b.len()).find_map(|i| {
+        let e = f.energy(b.p.get(i), b.velocity(i), b.mass[i]);
+        // NaN energy is caught by the non-finite check; `>` keeps it from tripping twice.
+        (e > b.energy_cap[i]).then_some((i, e))
+    })
+}
+
+/// Mutable view of a contiguous run of bodies, the unit of work of one thread.
+struct Lanes<'a> {
+    /// Storage index of the first body.
+    offset: usize,
+    ids: &'a [BodyId],
+    px: &'a mut [f64],
+    py: &'a mut [f64],
+    pz: &'a mut [f64],
+    mx: &'a mut [f64],
+    my: &'a mut [f64],
+    mz: &'a mut [f64],
+    /// Carried force (velocity Verlet), empty otherwise.
+    cx: &'a mut [f64],
+    cy: &'a mut [f64],
+    cz: &'a mut [f64],
+    mass: &'a [f64],
+    inv_mass: &'a [f64],
+    radius: &'a [f64],
+}
+
+fn split_mut(s: &mut [f64], mid: usize) -> (&mut [f64], &mut [f64]) {
+    if s.is_empty() {
+        (&mut [], &mut [])
+    } else {
+        s.split_at_mut(mid)
+    }
+}
+
+impl<'a> Lanes<'a> {
+    fn len(&self) -> usize {
+        self.ids.len()
+    }
+
+    fn split_at(self, mid: usize) -> (Lanes<'a>, Lanes<'a>) {
+        let (ids0, ids1) = self.ids.split_at(mid);
+        let (px0, px1) = self.px.split_at_mut(mid);
+        let (py0, py1) = self.py.split_at_mut(mid);
+        let (pz0, pz1) = self.pz.split_at_mut(mid);
+        let (mx0, mx1) = self.mx.split_at_mut(mid);
+        let (my0, my1) = self.my.split_at_mut(mid);
+        let (mz0, mz1) = self.mz.split_at_mut(mid);
+        let (cx0, cx1) = split_mut(self.cx, mid);
+        let (cy0, cy1) = split_mut(self.cy, mid);
+        let (cz0, cz1) = split_mut(self.cz, mid);
+        let (m0, m1) = self.mass.split_at(mid);
+        let (w0, w1) = self.inv_mass.split_at(mid);
+        let (r0, r1) = self.radius.split_at(mid);
+        (
+            Lanes {
+                offset: self.offset,
+                ids: ids0,
+                px: px0,
+                py: py0,
+                pz: pz0,
+                mx: mx0,
+                my: my0,
+                mz: mz0,
+                cx: cx0,
+                cy: cy0,
+                cz: cz0,
+                mass: m0,
+                inv_mass: w0,
+                radius: r0,
+            },
+            Lanes {
+                offset: self.offset + mid,
+                ids: ids1,
+                px: px1,
+                py: py1,
+                pz: pz1,
+                mx: mx1,
+                my: my1,
+                mz: mz1,
+                cx: cx1,
+                cy: cy1,
+                cz: cz1,
+                mass: m1,
+                inv_mass: w1,
+                radius: r1,
+            },
+        )
+    }
+}
+
+/// What one chunk's loop reports.
+#[derive(Clone, Copy, Default)]
+struct KernelOut {
+    evals: u64,
+    first_non_finite: Option<usize>,
+}
+
+impl KernelOut {
+    /// Combines two chunks in order: counts add, the lower index wins.
+    fn then(self, later: KernelOut) -> KernelOut {
+        KernelOut {
+            evals: self.evals + later.evals,
+            first_non_finite: self.first_non_finite.or(later.first_non_finite),
+        }
+    }
+}
+
+struct Integrate<'a, 'f> {
+    lanes: Lanes<'a>,
+    frame: &'f StepFrame<'f>,
+    events: &'a mut [Vec<Event>],
+    carry_valid: bool,
+}
+
+impl SchemeVisitor for Integrate<'_, '_> {
+    type Out = KernelOut;
+    fn visit<S: Scheme>(self, scheme: S) -> KernelOut {
+        let Integrate {
+            mut lanes,
+            frame,
+            events,
+            carry_valid,
+        } = self;
+        let mut extra = 0;
+        if S::CARRIES_FORCE && !carry_valid {
+            extra = fill_carry(&scheme, &mut lanes);
+        }
+        let out = if frame.contacts.is_empty() {
+            split_run::<S, false>(&scheme, lanes, frame, events)
+        } else {
+            split_run::<S, true>(&scheme, lanes, frame, events)
+        };
+        KernelOut {
+            evals: out.evals + extra,
+            ..out
+        }
+    }
+}
+
+fn fill_carry<S: Scheme>(scheme: &S, l: &mut Lanes) -> u64 {
+    for i in 0..l.len() {
+        let s = BodyState {
+            p: DVec3::new(l.px[i], l.py[i], l.pz[i]),
+            mv: DVec3::new(l.mx[i], l.my[i], l.mz[i]),
+        };
+        let w = Mass {
+            m: l.mass[i],
+            inv: l.inv_mass[i],
+        };
+        let f = scheme.start_carry(s, w);
+        (l.cx[i], l.cy[i], l.cz[i]) = (f.x, f.y, f.z);
+    }
+    l.len() as u64 * S::EVALS
+}
+
+/// Splits the bodies into `events.len()` chunks and runs them in parallel, combining in order.
+fn split_run<S: Scheme, const CONTACTS: bool>(
+    scheme: &S,
+    lanes: Lanes,
+    frame: &StepFrame,
+    events: &mut [Vec<Event>],
+) -> KernelOut {
+    if events.len() <= 1 {
+        return run::<S, CONTACTS>(scheme, lanes, frame, &mut events[0]);
+    }
+    let half = events.len() / 2;
+    let mid = lanes.len() * half / events.len();
+    let (left, right) = lanes.split_at(mid);
+    let (ev_left, ev_right) = events.split_at_mut(half);
+    let (a, b) = rayon::join(
+        || split_run::<S, CONTACTS>(scheme, left, frame, ev_left),
+        || split_run::<S, CONTACTS>(scheme, right, frame, ev_right),
+    );
+    a.then(b)
+}
+
+/// `true` unless a component is NaN or infinite; branch-free so the loop vectorises.
+#[inline(always)]
+fn finite(v: DVec3) -> bool {
+    (v.x.abs() <= f64::MAX) & (v.y.abs() <= f64::MAX) & (v.z.abs() <= f64::MAX)
+}
+
+/// The per-body loop of one chunk.
+#[inline(never)]
+fn run<S: Scheme, const CONTACTS: bool>(
+    scheme: &S,
+    l: Lanes,
+    frame: &StepFrame,
+    events: &mut Vec<Event>,
+) -> KernelOut {
+    let n = l.len();
+    let (px, py, pz) = (&mut l.px[..n], &mut l.py[..n], &mut l.pz[..n]);
+    let (mx, my, mz) = (&mut l.mx[..n], &mut l.my[..n], &mut l.mz[..n]);
+    let (mass, inv_mass) = (&l.mass[..n], &l.inv_mass[..n]);
+    let (cx, cy, cz) = if S::CARRIES_FORCE {
+        (&mut l.cx[..n], &mut l.cy[..n], &mut l.cz[..n])
+    } else {
+        (&mut l.cx[..0], &mut l.cy[..0], &mut l.cz[..0])
+    };
+    let h = frame.h;
+    let mut evals = n as u64 * S::EVALS;
+    let mut all_finite = true;
+    for i in 0..n {
+        let w = Mass {
+            m: mass[i],
+            inv: inv_mass[i],
+        };
+        let s0 = BodyState {
+            p: DVec3::new(px[i], py[i], pz[i]),
+            mv: DVec3::new(mx[i], my[i], mz[i]),
+        };
+        let c0 = if S::CARRIES_FORCE {
+            DVec3::new(cx[i], cy[i], cz[i])
+        } else {
+            DVec3::ZERO
+        };
+        let (mut s1, mut c1) = scheme.step(s0, w, h, c0);
+        if CONTACTS && contact::needs_resolution(frame.contacts, l.radius[i], w.inv, &s0, &s1) {
+            let body = Particle {
+                id: l.ids[i],
+                w,
+                r: l.radius[i],
+            };
+            let extra;
+            (s1, c1, extra) = contact::resolve(scheme, frame, body, (s0, c0), (s1, c1), events);
+            evals += extra;
+        }
+        all_finite &= finite(s1.p) & finite(s1.mv);
+        (px[i], py[i], pz[i]) = (s1.p.x, s1.p.y, s1.p.z);
+        (mx[i], my[i], mz[i]) = (s1.mv.x, s1.mv.y, s1.mv.z);
+        if S::CARRIES_FORCE {
+            (cx[i], cy[i], cz[i]) = (c1.x, c1.y, c1.z);
+        }
+    }
+    let first_non_finite = if all_finite {
+        None
+    } else {
+        (0..n)
+            .find(|&i| {
+                !(finite(DVec3::new(px[i], py[i], pz[i])) & finite(DVec3::new(mx[i], my[i], mz[i])))
+            })
+            .map(|i| i + l.offset)
+    };
+    KernelOut {
+        evals,
+        first_non_finite,
+    }
+}

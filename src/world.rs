@@ -1,0 +1,528 @@
+//! The world: bodies in contiguous structure-of-arrays storage, stable ids, the seeded generator.
+//!
+//! Bodies are stored in id order, one array per component (`x`, `y`, `z` of position and
+//! momentum, mass, radius), so the per-body loop streams through memory and vectorises. Ids are
+//! handed out in spawn order and never reused; despawning keeps the order of the rest (an ordered
+//! removal), so "in id order" and "in storage order" are the same thing everywhere.
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::contact::{Contacts, Event};
+use crate::forces::Forces;
+use crate::integrate::{BodyState, Integrator, Mass};
+use crate::scene::{BodySpec, Launcher, Scene};
+
+/// Stable identifier of a body: assigned in spawn order from 0, never reused.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize,
+)]
+pub struct BodyId(pub u64);
+
+impl std::fmt::Display for BodyId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.0)
+    }
+}
+
+/// Three parallel arrays of f64: a vector field in structure-of-arrays form.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Vec3s {
+    /// x components.
+    pub x: Vec<f64>,
+    /// y components.
+    pub y: Vec<f64>,
+    /// z components.
+    pub z: Vec<f64>,
+}
+
+impl Vec3s {
+    /// The vector at `i`.
+    #[inline(always)]
+    pub fn get(&self, i: usize) -> DVec3 {
+        DVec3::new(self.x[i], self.y[i], self.z[i])
+    }
+
+    /// Overwrites the vector at `i`.
+    #[inline(always)]
+    pub fn set(&mut self, i: usize, v: DVec3) {
+        self.x[i] = v.x;
+        self.y[i] = v.y;
+        self.z[i] = v.z;
+    }
+
+    fn push(&mut self, v: DVec3) {
+        self.x.push(v.x);
+        self.y.push(v.y);
+        self.z.push(v.z);
+    }
+
+    fn remove(&mut self, i: usize) {
+        self.x.remove(i);
+        self.y.remove(i);
+        self.z.remove(i);
+    }
+
+    fn clear(&mut self) {
+        self.x.clear();
+        self.y.clear();
+        self.z.clear();
+    }
+
+    pub(crate) fn resize(&mut self, n: usize) {
+        self.x.resize(n, 0.0);
+        self.y.resize(n, 0.0);
+        self.z.resize(n, 0.0);
+    }
+
+    /// Number of vectors.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// Copies all vectors from `other` (reusing this one's allocation).
+    pub fn copy_from(&mut self, other: &Vec3s) {
+        self.x.clone_from(&other.x);
+        self.y.clone_from(&other.y);
+        self.z.clone_from(&other.z);
+    }
+
+    /// Iterates over the vectors.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = DVec3> + '_ {
+        (0..self.len()).map(|i| self.get(i))
+    }
+}
+
+/// All bodies, structure of arrays, in id order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Bodies {
+    pub(crate) id: Vec<BodyId>,
+    pub(crate) p: Vec3s,
+    pub(crate) mv: Vec3s,
+    pub(crate) mass: Vec<f64>,
+    /// 1 / mass, computed once at spawn so the hot loop multiplies instead of dividing.
+    pub(crate) inv_mass: Vec<f64>,
+    pub(crate) radius: Vec<f64>,
+    /// Energy above which the guard stops the run, per body (J).
+    pub(crate) energy_cap: Vec<f64>,
+}
+
+impl Bodies {
+    /// Number of bodies.
+    pub fn len(&self) -> usize {
+        self.id.len()
+    }
+
+    /// Whether there are no bodies.
+    pub fn is_empty(&self) -> bool {
+        self.id.is_empty()
+    }
+
+    /// Ids in storage (= id) order.
+    pub fn ids(&self) -> &[BodyId] {
+        &self.id
+    }
+
+    /// Positions (m).
+    pub fn positions(&self) -> &Vec3s {
+        &self.p
+    }
+
+    /// Momenta (kg m/s).
+    pub fn momenta(&self) -> &Vec3s {
+        &self.mv
+    }
+
+    /// Masses (kg).
+    pub fn masses(&self) -> &[f64] {
+        &self.mass
+    }
+
+    /// Radii (m).
+    pub fn radii(&self) -> &[f64] {
+        &self.radius
+    }
+
+    /// Mass and reciprocal of the body at storage index `i`.
+    pub fn mass_of(&self, i: usize) -> Mass {
+        Mass {
+            m: self.mass[i],
+            inv: self.inv_mass[i],
+        }
+    }
+
+    /// Velocity (m/s) of the body at storage index `i`, formed as the integrators form it.
+    pub fn velocity(&self, i: usize) -> DVec3 {
+        self.mv.get(i) * self.inv_mass[i]
+    }
+
+    /// State of the body at storage index `i`.
+    pub fn state(&self, i: usize) -> BodyState {
+        BodyState {
+            p: self.p.get(i),
+            mv: self.mv.get(i),
+        }
+    }
+
+    /// Storage index of a body, by binary search over the sorted ids.
+    pub fn index_of(&self, id: BodyId) -> Option<usize> {
+        self.id.binary_search(&id).ok()
+    }
+
+    fn push(&mut self, id: BodyId, spec: &BodySpec) {
+        self.id.push(id);
+        self.p.push(spec.position);
+        self.mv.push(spec.mass * spec.velocity);
+        self.mass.push(spec.mass);
+        self.inv_mass.push(1.0 / spec.mass);
+        self.radius.push(spec.radius);
+        self.energy_cap.push(f64::INFINITY);
+    }
+
+    fn remove(&mut self, i: usize) {
+        self.id.remove(i);
+        self.p.remove(i);
+        self.mv.remove(i);
+        self.mass.remove(i);
+        self.inv_mass.remove(i);
+        self.radius.remove(i);
+        self.energy_cap.remove(i);
+    }
+
+    fn clear(&mut self) {
+        self.id.clear();
+        self.p.clear();
+        self.mv.clear();
+        self.mass.clear();
+        self.inv_mass.clear();
+        self.radius.clear();
+        self.energy_cap.clear();
+    }
+}
+
+/// SplitMix64 (Steele, Lea and Flood 2014; constants from Vigna's reference code): a tiny,
+/// well-studied generator whose whole state is one `u64`, so it is trivially part of the hashed
+/// and snapshotted world state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SplitMix64(pub u64);
+
+impl SplitMix64 {
+    /// Next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1), from the top 53 bits.
+    pub fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// Uniform in [-1, 1).
+    pub fn next_signed(&mut self) -> f64 {
+        2.0 * self.next_f64() - 1.0
+    }
+}
+
+/// Where a run's state went non-finite or gained energy it cannot have.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Divergence {
+    /// The tick whose step produced the bad state.
+    pub tick: u64,
+    /// The first body (lowest id) affected.
+    pub body: BodyId,
+    /// Why the run was stopped.
+    pub cause: DivergenceCause,
+}
+
+/// Why the guard stopped a run.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum DivergenceCause {
+    /// A position or momentum component became NaN or infinite.
+    NonFinite,
+    /// The body's energy grew past the guard's bound in a scene that cannot add energy.
+    EnergyGrowth {
+        /// Energy at the check (J).
+        energy: f64,
+        /// The bound it passed (J).
+        bound: f64,
+    },
+}
+
+impl std::fmt::Display for Divergence {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "diverged at tick {} (body {}): ", self.tick, self.body)?;
+        match self.cause {
+            DivergenceCause::NonFinite => f.write_str("state is no longer finite"),
+            DivergenceCause::EnergyGrowth { energy, bound } => write!(
+                f,
+                "energy {energy:.6e} J passed the guard's bound {bound:.6e} J although no force \
+                 adds energy (a numerical instability)"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for Divergence {}
+
+/// The simulation state and everything that decides how it advances.
+#[derive(Clone, Debug)]
+pub struct World {
+    pub(crate) scene: Scene,
+    pub(crate) bodies: Bodies,
+    pub(crate) next_id: u64,
+    pub(crate) tick: u64,
+    pub(crate) h: f64,
+    pub(crate) integrator: Integrator,
+    pub(crate) substeps: u32,
+    /// Active force terms: the declared ones minus those toggled off.
+    pub(crate) forces: Forces,
+    pub(crate) contacts: Contacts,
+    pub(crate) launcher: Launcher,
+    pub(crate) rng: SplitMix64,
+    /// Events of the last tick.
+    pub(crate) events: Vec<Event>,
+    /// Force evaluations since tick 0.
+    pub(crate) force_evals: u64,
+    /// Velocity Verlet's carried end-of-step force, per body; empty for other integrators.
+    pub(crate) carry: Vec3s,
+    pub(crate) carry_valid: bool,
+    pub(crate) diverged: Option<Divergence>,
+    pub(crate) threads: usize,
+    pub(crate) chunk_events: Vec<Vec<Event>>,
+}
+
+impl World {
+    /// Builds the world of a scene at tick 0: its bodies, then its volley if it declares one.
+    ///
+    /// ```
+    /// let scene = volley::scene::parse(
+    ///     "Scene(dt: 0.5, integrator: Exact, forces: [Gravity((0, 0, -10))],
+    ///            bodies: [(mass: 1, position: (0, 0, 0), launch: Velocity((1, 0, 10)))])",
+    ///     "inline.ron", "inline").unwrap();
+    /// let mut world = volley::World::new(&scene);
+    /// world.step().unwrap();
+    /// assert_eq!(world.bodies().state(0).p.z, 10.0 * 0.5 - 0.5 * 10.0 * 0.25);
+    /// ```
+    pub fn new(scene: &Scene) -> World {
+        let mut world = World {
+            scene: scene.clone(),
+            bodies: Bodies::default(),
+            next_id: 0,
+            tick: 0,
+            h: scene.timestep.as_nanos() as f64 * 1e-9,
+            integrator: scene.integrator,
+            substeps: scene.substeps,
+            forces: scene.forces,
+            contacts: Contacts {
+                ground: scene.ground,
+                walls: scene.walls.clone(),
+                targets: scene.targets.clone(),
+                detection: scene.detection,
+            },
+            launcher: scene.launcher,
+            rng: SplitMix64(scene.seed),
+            events: Vec::new(),
+            force_evals: 0,
+            carry: Vec3s::default(),
+            carry_valid: false,
+            diverged: None,
+            threads: 1,
+            chunk_events: Vec::new(),
+        };
+        world.populate();
+        world
+    }
+
+    /// Spawns the scene's bodies and volley.
+    pub(crate) fn populate(&mut self) {
+        for spec in self.scene.bodies.clone() {
+            self.spawn(&spec);
+        }
+        if let Some(volley) = self.scene.volley {
+            for _ in 0..volley.count {
+                let l = self.launcher;
+                let speed = l.speed + volley.speed_spread * self.rng.next_signed();
+                let el = l.elevation_deg + volley.angle_spread_deg * self.rng.next_signed();
+                let az = l.azimuth_deg + volley.angle_spread_deg * self.rng.next_signed();
+                self.spawn(&BodySpec {
+                    mass: l.mass,
+                    radius: l.radius,
+                    position: l.position,
+                    velocity: crate::scene::angles_to_velocity(speed.max(0.0), el, az),
+                });
+            }
+        }
+    }
+
+    /// Adds a body at the end of the id order and returns its id.
+    pub fn spawn(&mut self, spec: &BodySpec) -> BodyId {
+        let id = BodyId(self.next_id);
+        self.next_id += 1;
+        self.bodies.push(id, spec);
+        let i = self.bodies.len() - 1;
+        self.bodies.energy_cap[i] = self.energy_cap_of(i);
+        self.carry_valid = false;
+        id
+    }
+
+    /// Removes a body, keeping the others in order. Returns whether it existed.
+    pub fn despawn(&mut self, id: BodyId) -> bool {
+        match self.bodies.index_of(id) {
+            Some(i) => {
+                self.bodies.remove(i);
+                self.carry_valid = false;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Removes every body (ids keep counting).
+    pub fn clear_bodies(&mut self) {
+        self.bodies.clear();
+        self.carry_valid = false;
+    }
+
+    /// The guard's energy bound for body `i`: start energy plus `(factor - 1)` times its scale.
+    ///
+    /// The scale is the sum of the magnitudes of the kinetic and each potential term at the
+    /// start, so it does not vanish when the terms cancel (a circular orbit, a body at rest).
+    pub(crate) fn energy_cap_of(&self, i: usize) -> f64 {
+        use crate::forces::ForceModel;
+        let (s, m) = (self.bodies.state(i), self.bodies.mass[i]);
+        let v = self.bodies.velocity(i);
+        let energy = self.forces.energy(s.p, v, m);
+        let scale = crate::forces::ForceKind::ALL
+            .into_iter()
+            .filter(|k| self.forces.has(*k))
+            .map(|k| {
+                let only = self.forces.filtered(|j| j == k);
+                (only.energy(s.p, v, m) - 0.5 * m * v.length_squared()).abs()
+            })
+            .sum::<f64>()
+            + 0.5 * m * v.length_squared();
+        let floor = f64::MIN_POSITIVE.max(1e-12 * m);
+        energy + (self.scene.guard.energy_factor - 1.0) * scale.max(floor)
+    }
+
+    /// Resets every body's energy bound to its current state (after commands add energy).
+    pub(crate) fn rebase_energy_caps(&mut self) {
+        for i in 0..self.bodies.len() {
+            self.bodies.energy_cap[i] = self.energy_cap_of(i);
+        }
+    }
+
+    /// The bodies.
+    pub fn bodies(&self) -> &Bodies {
+        &self.bodies
+    }
+
+    /// Ticks stepped since tick 0.
+    pub fn tick(&self) -> u64 {
+        self.tick
+    }
+
+    /// The physics step h (s), exactly the clock's timestep in nanoseconds.
+    pub fn dt(&self) -> f64 {
+        self.h
+    }
+
+    /// Sim time (s) of the current tick: `start_time + tick * h`, one multiplication, no sum.
+    pub fn time(&self) -> f64 {
+        self.time_of(self.tick)
+    }
+
+    /// Sim time (s) of tick `tick`.
+    pub fn time_of(&self, tick: u64) -> f64 {
+        self.scene.start_time + tick as f64 * self.h
+    }
+
+    /// Integrator in use.
+    pub fn integrator(&self) -> Integrator {
+        self.integrator
+    }
+
+    /// Active force terms.
+    pub fn forces(&self) -> &Forces {
+        &self.forces
+    }
+
+    /// Contacts of the scene.
+    pub fn contacts(&self) -> &Contacts {
+        &self.contacts
+    }
+
+    /// The scene the world was built from.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The launcher used by `Fire` commands.
+    pub fn launcher(&self) -> &Launcher {
+        &self.launcher
+    }
+
+    /// Events of the last tick, in body order.
+    pub fn events(&self) -> &[Event] {
+        &self.events
+    }
+
+    /// Force evaluations since tick 0 (every body, stage and contact search included).
+    pub fn force_evals(&self) -> u64 {
+        self.force_evals
+    }
+
+    /// Integrator steps per tick.
+    pub fn substeps(&self) -> u32 {
+        self.substeps
+    }
+
+    /// The divergence that stopped the run, if any.
+    pub fn divergence(&self) -> Option<Divergence> {
+        self.diverged
+    }
+
+    /// The world's random generator (part of the hashed state).
+    pub fn rng(&self) -> SplitMix64 {
+        self.rng
+    }
+
+    /// Worker threads used for stepping (1 = on the caller's thread). Results are bit-identical
+    /// for every thread count.
+    pub fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// Sets the number of worker threads (at least 1).
+    pub fn set_threads(&mut self, threads: usize) {
+        self.threads = threads.max(1);
+    }
+
+    /// Velocity of body `i` (m/s).
+    pub fn velocity(&self, i: usize) -> DVec3 {
+        self.bodies.velocity(i)
+    }
+
+    /// Net force (N) on body `i` from the active terms, at its current state.
+    pub fn force_on(&self, i: usize) -> DVec3 {
+        use crate::forces::ForceModel;
+        let m = self.bodies.mass[i];
+        self.forces.force(self.bodies.p.get(i), self.velocity(i), m)
+    }
+
+    /// Mechanical energy (J) of body `i` under the active terms.
+    pub fn energy_of(&self, i: usize) -> f64 {
+        use crate::forces::ForceModel;
+        let m = self.bodies.mass[i];
+        self.forces.energy(self.bodies.p.get(i), self.velocity(i), m)
+    }
+}
