@@ -133,7 +133,11 @@ impl World {
                     return err(format!(
                         "force: the scene does not declare {} (declared: {})",
                         kind.name(),
-                        declared.kinds().map(ForceKind::name).collect::<Vec<_>>().join(", ")
+                        declared
+                            .kinds()
+                            .map(ForceKind::name)
+                            .collect::<Vec<_>>()
+                            .join(", ")
                     ));
                 }
                 let candidate = if enabled {
@@ -223,7 +227,12 @@ impl std::fmt::Display for Command {
                 Ok(())
             }
             Command::SetForce { kind, enabled } => {
-                write!(f, "force {} {}", kind.name(), if *enabled { "on" } else { "off" })
+                write!(
+                    f,
+                    "force {} {}",
+                    kind.name(),
+                    if *enabled { "on" } else { "off" }
+                )
             }
             Command::SetIntegrator(i) => write!(f, "integrator {}", i.name()),
             Command::Reset => f.write_str("reset"),
@@ -289,13 +298,15 @@ impl std::str::FromStr for Command {
             }
             "integrator" => {
                 let name = single("an integrator name")?;
-                Integrator::parse(name).map(Command::SetIntegrator).ok_or_else(|| {
-                    let names: Vec<_> = Integrator::ALL.iter().map(|i| i.name()).collect();
-                    CommandError(format!(
-                        "integrator: unknown `{name}`, expected one of {}",
-                        names.join(", ")
-                    ))
-                })
+                Integrator::parse(name)
+                    .map(Command::SetIntegrator)
+                    .ok_or_else(|| {
+                        let names: Vec<_> = Integrator::ALL.iter().map(|i| i.name()).collect();
+                        CommandError(format!(
+                            "integrator: unknown `{name}`, expected one of {}",
+                            names.join(", ")
+                        ))
+                    })
             }
             "force" => match rest.as_slice() {
                 [kind, state @ ("on" | "off")] => {

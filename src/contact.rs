@@ -310,7 +310,17 @@ fn resolve_swept<S: Scheme>(
             Some((tau, _)) if tau < remaining => step(s, c, tau, &mut evals),
             _ => (end, end_c),
         };
-        targets_on_segment(scheme, frame, body, elapsed, (s, c), cut, at_cut.0, out, &mut evals);
+        targets_on_segment(
+            scheme,
+            frame,
+            body,
+            elapsed,
+            (s, c),
+            cut,
+            at_cut.0,
+            out,
+            &mut evals,
+        );
         let Some((tau, plane)) = first else {
             return (end, end_c, evals);
         };
@@ -426,13 +436,19 @@ fn targets_on_segment<S: Scheme>(
     evals: &mut u64,
 ) {
     for (i, target) in frame.contacts.targets.iter().enumerate() {
-        let (g0, g1) = (approach_rate(target, &a, body.w.inv), approach_rate(target, &b, body.w.inv));
+        let (g0, g1) = (
+            approach_rate(target, &a, body.w.inv),
+            approach_rate(target, &b, body.w.inv),
+        );
         if !(g0 < 0.0 && g1 >= 0.0) {
             continue;
         }
         let path = |tau: f64| scheme.step(a, body.w, tau, ca).0;
-        let (tau_min, n) =
-            bracketed_root(|tau| approach_rate(target, &path(tau), body.w.inv), (0.0, g0), (duration, g1));
+        let (tau_min, n) = bracketed_root(
+            |tau| approach_rate(target, &path(tau), body.w.inv),
+            (0.0, g0),
+            (duration, g1),
+        );
         *evals += n * S::EVALS;
         let closest = path(tau_min);
         *evals += S::EVALS;
@@ -444,8 +460,11 @@ fn targets_on_segment<S: Scheme>(
             if gap0 <= 0.0 {
                 return frame.t0 + elapsed;
             }
-            let (tau_hit, n) =
-                bracketed_root(|tau| gap(&path(tau)), (0.0, gap0), (tau_min, distance - reach));
+            let (tau_hit, n) = bracketed_root(
+                |tau| gap(&path(tau)),
+                (0.0, gap0),
+                (tau_min, distance - reach),
+            );
             *evals += n * S::EVALS;
             frame.t0 + elapsed + tau_hit
         });
@@ -507,7 +526,10 @@ fn resolve_discrete<S: Scheme>(
     }
     for (i, target) in frame.contacts.targets.iter().enumerate() {
         let reach = target.radius + body.r;
-        let (d0, d1) = ((s0.p - target.center).length(), (s.p - target.center).length());
+        let (d0, d1) = (
+            (s0.p - target.center).length(),
+            (s.p - target.center).length(),
+        );
         if d1 <= reach && d0 > reach {
             out.push(Event {
                 tick: frame.tick,
@@ -545,7 +567,11 @@ pub(crate) fn bracketed_root(
         if width.abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs()).max(floor) {
             break;
         }
-        let mut x = if i % 4 == 3 { 0.5 * (a + b) } else { (a * fb - b * fa) / (fb - fa) };
+        let mut x = if i % 4 == 3 {
+            0.5 * (a + b)
+        } else {
+            (a * fb - b * fa) / (fb - fa)
+        };
         if !((x > a.min(b)) && (x < a.max(b))) {
             x = 0.5 * (a + b);
         }

@@ -257,8 +257,14 @@ mod tests {
         let (p, v) = linear_drag_flow(p0, v0, g, k, t);
         // Both are within a few ulps of the true value; 1e-12 relative leaves room for the
         // reference form's cancellation (|vT t| is about 23 m here).
-        assert!((p - p_ref).length() < 1e-12 * p_ref.length(), "{p} vs {p_ref}");
-        assert!((v - v_ref).length() < 1e-12 * v_ref.length(), "{v} vs {v_ref}");
+        assert!(
+            (p - p_ref).length() < 1e-12 * p_ref.length(),
+            "{p} vs {p_ref}"
+        );
+        assert!(
+            (v - v_ref).length() < 1e-12 * v_ref.length(),
+            "{v} vs {v_ref}"
+        );
     }
 
     #[test]

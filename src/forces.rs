@@ -177,9 +177,9 @@ impl Forces {
 
     /// The same forces as a [`ConstantField`], if gravity and a constant force are all there is.
     pub fn constant_field(&self) -> Option<ConstantField> {
-        let only_constant = self.kinds().all(|k| {
-            matches!(k, ForceKind::Gravity | ForceKind::ConstantForce)
-        });
+        let only_constant = self
+            .kinds()
+            .all(|k| matches!(k, ForceKind::Gravity | ForceKind::ConstantForce));
         only_constant.then(|| ConstantField {
             gravity: self.gravity.unwrap_or(DVec3::ZERO),
             force: self.constant.unwrap_or(DVec3::ZERO),
@@ -379,7 +379,9 @@ mod tests {
             constant: Some(DVec3::new(1.5, 0.0, 0.0)),
             ..Forces::default()
         };
-        let field = forces.constant_field().expect("only constant terms are declared");
+        let field = forces
+            .constant_field()
+            .expect("only constant terms are declared");
         let (p, v, m) = (DVec3::new(1.0, 2.0, 3.0), DVec3::new(-4.0, 5.0, 6.0), 2.5);
         assert_eq!(field.force(p, v, m), forces.force(p, v, m));
         assert_eq!(field.energy(p, v, m), forces.energy(p, v, m));

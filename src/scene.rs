@@ -231,8 +231,18 @@ enum ForceTerm {
     ConstantForce(DVec3),
     LinearDrag(f64),
     QuadraticDrag(f64),
-    Spring(Spring),
-    PointMass(PointMass),
+    Spring {
+        anchor: DVec3,
+        stiffness: f64,
+        #[serde(default)]
+        rest_length: f64,
+        #[serde(default)]
+        damping: f64,
+    },
+    PointMass {
+        center: DVec3,
+        mu: f64,
+    },
 }
 
 impl ForceTerm {
@@ -242,8 +252,8 @@ impl ForceTerm {
             ForceTerm::ConstantForce(_) => ForceKind::ConstantForce,
             ForceTerm::LinearDrag(_) => ForceKind::LinearDrag,
             ForceTerm::QuadraticDrag(_) => ForceKind::QuadraticDrag,
-            ForceTerm::Spring(_) => ForceKind::Spring,
-            ForceTerm::PointMass(_) => ForceKind::PointMass,
+            ForceTerm::Spring { .. } => ForceKind::Spring,
+            ForceTerm::PointMass { .. } => ForceKind::PointMass,
         }
     }
 }
@@ -341,8 +351,8 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// Parses and validates scene text; `file` labels errors, `default_name` is used if the scene
 /// has no `name`.
 pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Scene, SceneError> {
-    let options = ron::Options::default()
-        .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let options =
+        ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     let raw: RawScene = options.from_str(text).map_err(|e| SceneError {
         file: file.to_string(),
         position: Some((e.span.start.line, e.span.start.col)),
@@ -372,7 +382,10 @@ fn positive(field: &str, x: f64) -> Result<f64, Invalid> {
     if x.is_finite() && x > 0.0 {
         Ok(x)
     } else {
-        Err((field.into(), format!("expected a finite number > 0, got {x}")))
+        Err((
+            field.into(),
+            format!("expected a finite number > 0, got {x}"),
+        ))
     }
 }
 
@@ -380,7 +393,10 @@ fn non_negative(field: &str, x: f64) -> Result<f64, Invalid> {
     if x.is_finite() && x >= 0.0 {
         Ok(x)
     } else {
-        Err((field.into(), format!("expected a finite number >= 0, got {x}")))
+        Err((
+            field.into(),
+            format!("expected a finite number >= 0, got {x}"),
+        ))
     }
 }
 
@@ -388,7 +404,10 @@ fn unit_interval(field: &str, x: f64) -> Result<f64, Invalid> {
     if (0.0..=1.0).contains(&x) {
         Ok(x)
     } else {
-        Err((field.into(), format!("expected a number from 0 to 1, got {x}")))
+        Err((
+            field.into(),
+            format!("expected a number from 0 to 1, got {x}"),
+        ))
     }
 }
 
@@ -505,7 +524,10 @@ fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, Invalid> {
         if forces.has(term.kind()) {
             return Err((
                 field,
-                format!("{} is declared twice; declare each term once", term.kind().name()),
+                format!(
+                    "{} is declared twice; declare each term once",
+                    term.kind().name()
+                ),
             ));
         }
         match *term {
@@ -513,17 +535,24 @@ fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, Invalid> {
             ForceTerm::ConstantForce(f) => forces.constant = Some(finite3(&field, f)?),
             ForceTerm::LinearDrag(b) => forces.linear_drag = Some(non_negative(&field, b)?),
             ForceTerm::QuadraticDrag(c) => forces.quadratic_drag = Some(non_negative(&field, c)?),
-            ForceTerm::Spring(s) => {
-                finite3(&format!("{field}.anchor"), s.anchor)?;
-                non_negative(&format!("{field}.stiffness"), s.stiffness)?;
-                non_negative(&format!("{field}.rest_length"), s.rest_length)?;
-                non_negative(&format!("{field}.damping"), s.damping)?;
-                forces.spring = Some(s);
+            ForceTerm::Spring {
+                anchor,
+                stiffness,
+                rest_length,
+                damping,
+            } => {
+                forces.spring = Some(Spring {
+                    anchor: finite3(&format!("{field}.anchor"), anchor)?,
+                    stiffness: non_negative(&format!("{field}.stiffness"), stiffness)?,
+                    rest_length: non_negative(&format!("{field}.rest_length"), rest_length)?,
+                    damping: non_negative(&format!("{field}.damping"), damping)?,
+                });
             }
-            ForceTerm::PointMass(pm) => {
-                finite3(&format!("{field}.center"), pm.center)?;
-                positive(&format!("{field}.mu"), pm.mu)?;
-                forces.point_mass = Some(pm);
+            ForceTerm::PointMass { center, mu } => {
+                forces.point_mass = Some(PointMass {
+                    center: finite3(&format!("{field}.center"), center)?,
+                    mu: positive(&format!("{field}.mu"), mu)?,
+                });
             }
         }
     }
@@ -628,7 +657,8 @@ fn default_launcher(first: Option<&BodySpec>) -> Launcher {
 mod tests {
     use super::*;
 
-    const MINIMAL: &str = r#"Scene(dt: 0.01, integrator: Rk4, bodies: [(mass: 1, position: (0, 0, 1))])"#;
+    const MINIMAL: &str =
+        r#"Scene(dt: 0.01, integrator: Rk4, bodies: [(mass: 1, position: (0, 0, 1))])"#;
 
     #[test]
     fn a_minimal_scene_parses_with_defaults() {
@@ -641,8 +671,12 @@ mod tests {
 
     #[test]
     fn syntax_errors_carry_line_and_column() {
-        let err = parse("Scene(\n  dt: 0.1,\n  integrator: Rk4\n  bodies: [],\n)", "x.ron", "x")
-            .unwrap_err();
+        let err = parse(
+            "Scene(\n  dt: 0.1,\n  integrator: Rk4\n  bodies: [],\n)",
+            "x.ron",
+            "x",
+        )
+        .unwrap_err();
         assert_eq!(err.file, "x.ron");
         assert_eq!(err.position.map(|p| p.0), Some(4), "{err}");
     }

@@ -523,6 +523,7 @@ impl World {
     pub fn energy_of(&self, i: usize) -> f64 {
         use crate::forces::ForceModel;
         let m = self.bodies.mass[i];
-        self.forces.energy(self.bodies.p.get(i), self.velocity(i), m)
+        self.forces
+            .energy(self.bodies.p.get(i), self.velocity(i), m)
     }
 }

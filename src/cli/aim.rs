@@ -34,12 +34,7 @@ pub fn run(args: &AimArgs) -> Result<(), Failure> {
             out,
             "{name:<4} arc: elevation {:.4} deg, azimuth {:.4} deg, flight time {:.4} s, \
              velocity ({:.4}, {:.4}, {:.4}) m/s",
-            s.elevation_deg,
-            s.azimuth_deg,
-            s.flight_time,
-            s.velocity.x,
-            s.velocity.y,
-            s.velocity.z
+            s.elevation_deg, s.azimuth_deg, s.flight_time, s.velocity.x, s.velocity.y, s.velocity.z
         )
         .map_err(|e| fail(EXIT_ENVIRONMENT, e))?;
     }

@@ -86,7 +86,10 @@ pub fn parse_integrator(flag: &str, name: &str) -> Result<Integrator, Failure> {
         let names: Vec<_> = Integrator::ALL.iter().map(|i| i.name()).collect();
         fail(
             EXIT_INPUT,
-            format!("{flag}: unknown `{name}`, expected one of {}", names.join(", ")),
+            format!(
+                "{flag}: unknown `{name}`, expected one of {}",
+                names.join(", ")
+            ),
         )
     })
 }
