@@ -41,6 +41,7 @@ pub mod exact;
 pub mod forces;
 pub mod hash;
 pub mod integrate;
+pub mod replay;
 pub mod scene;
 pub mod sim_loop;
 pub mod step;

@@ -31,6 +31,10 @@ enum Cmd {
     Aim(cli::aim::AimArgs),
     /// List the bundled scenes.
     Scenes,
+    /// Run a scene headless and write a recording (commands, hashes, keyframes).
+    Record(cli::record::RecordArgs),
+    /// Play a recording back as a table, or verify it bit for bit (--verify).
+    Replay(cli::replay::ReplayArgs),
 }
 
 fn main() -> ExitCode {
@@ -42,6 +46,8 @@ fn main() -> ExitCode {
         Some(Cmd::Headless(args)) => cli::headless::run(&args),
         Some(Cmd::Aim(args)) => cli::aim::run(&args),
         Some(Cmd::Scenes) => cli::scenes::run(),
+        Some(Cmd::Record(args)) => cli::record::run(&args),
+        Some(Cmd::Replay(args)) => cli::replay::run(&args),
         None => cli::headless::default_run(),
     };
     match result {

@@ -527,3 +527,160 @@ impl World {
             .energy(self.bodies.p.get(i), self.velocity(i), m)
     }
 }
+
+/// A world's whole mutable state at a tick boundary: what a replay keyframe stores.
+///
+/// Restoring it ([`World::restore`]) onto a world built from the same scene and stepping on gives
+/// the same bits as stepping on from the world it was taken from. What the scene fixes (timestep,
+/// substeps, contacts, declared forces, guard) is not in it; `inv_mass` is recomputed as
+/// `1 / mass`, exactly as at spawn. Events of the last tick and the thread count are not state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Snapshot {
+    /// Ticks stepped since tick 0.
+    pub tick: u64,
+    /// Id the next spawned body gets.
+    pub next_id: u64,
+    /// The random generator.
+    pub rng: SplitMix64,
+    /// Integrator in use.
+    pub integrator: Integrator,
+    /// Active force terms: a subset of the scene's declared terms, with the declared values.
+    pub forces: Forces,
+    /// The launcher `Fire` uses.
+    pub launcher: Launcher,
+    /// Force evaluations since tick 0.
+    pub force_evals: u64,
+    /// Body ids, strictly increasing.
+    pub ids: Vec<BodyId>,
+    /// Positions (m).
+    pub p: Vec3s,
+    /// Momenta (kg m/s).
+    pub mv: Vec3s,
+    /// Masses (kg).
+    pub mass: Vec<f64>,
+    /// Radii (m).
+    pub radius: Vec<f64>,
+    /// The energy guard's bound per body (J).
+    pub energy_cap: Vec<f64>,
+    /// Velocity Verlet's carried force (N) per body when it is valid; empty otherwise.
+    pub carry: Vec3s,
+}
+
+impl World {
+    /// The state now, for keyframes and seeking. See [`World::snapshot_into`] to reuse buffers.
+    pub fn snapshot(&self) -> Snapshot {
+        let mut s = Snapshot {
+            tick: 0,
+            next_id: 0,
+            rng: self.rng,
+            integrator: self.integrator,
+            forces: self.forces,
+            launcher: self.launcher,
+            force_evals: 0,
+            ids: Vec::new(),
+            p: Vec3s::default(),
+            mv: Vec3s::default(),
+            mass: Vec::new(),
+            radius: Vec::new(),
+            energy_cap: Vec::new(),
+            carry: Vec3s::default(),
+        };
+        self.snapshot_into(&mut s);
+        s
+    }
+
+    /// Like [`World::snapshot`], reusing `out`'s allocations (no allocation once they fit).
+    pub fn snapshot_into(&self, out: &mut Snapshot) {
+        let b = &self.bodies;
+        (out.tick, out.next_id, out.rng) = (self.tick, self.next_id, self.rng);
+        (out.integrator, out.forces) = (self.integrator, self.forces);
+        (out.launcher, out.force_evals) = (self.launcher, self.force_evals);
+        out.ids.clone_from(&b.id);
+        out.p.copy_from(&b.p);
+        out.mv.copy_from(&b.mv);
+        out.mass.clone_from(&b.mass);
+        out.radius.clone_from(&b.radius);
+        out.energy_cap.clone_from(&b.energy_cap);
+        if self.carries_force() {
+            out.carry.copy_from(&self.carry);
+        } else {
+            out.carry.resize(0);
+        }
+    }
+
+    /// Whether the carried force is state: velocity Verlet in its carrying form (forces of
+    /// position only) after a step. In its predicted form (drag) the buffer is not read, and
+    /// any switch between the forms goes through a command, which invalidates it.
+    fn carries_force(&self) -> bool {
+        use crate::forces::ForceModel;
+        self.carry_valid
+            && self.carry.len() == self.bodies.len()
+            && self.integrator == Integrator::VelocityVerlet
+            && !self.forces.velocity_dependent()
+    }
+
+    /// Puts `s` back, or says why it cannot belong to this world's scene (lengths that differ,
+    /// ids not increasing or not below `next_id`, a mass not > 0, a radius not >= 0, a force
+    /// term the scene does not declare, an integrator the forces refuse, a carried force
+    /// without velocity Verlet). The divergence flag and the last tick's events are cleared.
+    pub fn restore(&mut self, s: &Snapshot) -> Result<(), String> {
+        use crate::forces::ForceModel;
+        let n = s.ids.len();
+        let lengths = [s.p.len(), s.mv.len(), s.mass.len(), s.radius.len()];
+        if lengths.iter().chain([&s.energy_cap.len()]).any(|&l| l != n) {
+            return Err(format!("body arrays of different lengths ({n} ids)"));
+        }
+        if !s.ids.windows(2).all(|w| w[0] < w[1])
+            || s.ids.last().is_some_and(|id| id.0 >= s.next_id)
+        {
+            return Err("body ids must increase and stay below next_id".into());
+        }
+        if let Some(i) = (0..n).find(|&i| !(s.mass[i].is_finite() && s.mass[i] > 0.0)) {
+            return Err(format!(
+                "body {}: mass must be > 0, got {}",
+                s.ids[i], s.mass[i]
+            ));
+        }
+        if let Some(i) = (0..n).find(|&i| !(s.radius[i].is_finite() && s.radius[i] >= 0.0)) {
+            return Err(format!(
+                "body {}: radius must be >= 0, got {}",
+                s.ids[i], s.radius[i]
+            ));
+        }
+        if s.forces != self.scene.forces.filtered(|k| s.forces.has(k)) {
+            return Err("active forces are not a subset of the scene's declared terms".into());
+        }
+        crate::scene::check_integrator(s.integrator, &s.forces)?;
+        let l = &s.launcher;
+        let numbers = [l.speed, l.elevation_deg, l.azimuth_deg, l.mass, l.radius];
+        let finite = numbers.iter().all(|x| x.is_finite()) && l.position.is_finite();
+        if !(finite && l.speed >= 0.0 && l.mass > 0.0 && l.radius >= 0.0) {
+            return Err("launcher: values must be finite, speed and radius >= 0, mass > 0".into());
+        }
+        let verlet = s.integrator == Integrator::VelocityVerlet;
+        if !s.carry.is_empty() && (s.carry.len() != n || !verlet || s.forces.velocity_dependent()) {
+            return Err(
+                "a carried force needs velocity Verlet, forces of position only and one \
+                        entry per body"
+                    .into(),
+            );
+        }
+        let b = &mut self.bodies;
+        b.id.clone_from(&s.ids);
+        b.p.copy_from(&s.p);
+        b.mv.copy_from(&s.mv);
+        b.mass.clone_from(&s.mass);
+        b.inv_mass.clear();
+        b.inv_mass.extend(s.mass.iter().map(|m| 1.0 / m));
+        b.radius.clone_from(&s.radius);
+        b.energy_cap.clone_from(&s.energy_cap);
+        self.carry.copy_from(&s.carry);
+        self.carry_valid = !s.carry.is_empty();
+        (self.tick, self.next_id, self.rng) = (s.tick, s.next_id, s.rng);
+        (self.integrator, self.forces) = (s.integrator, s.forces);
+        (self.launcher, self.force_evals) = (s.launcher, s.force_evals);
+        self.events.clear();
+        self.diverged = None;
+        Ok(())
+    }
+}

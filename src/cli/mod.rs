@@ -2,6 +2,8 @@
 
 pub mod aim;
 pub mod headless;
+pub mod record;
+pub mod replay;
 pub mod scenes;
 
 use std::path::{Path, PathBuf};

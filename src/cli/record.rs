@@ -1,0 +1,110 @@
+//! `volley record`: run a scene headless through the loop and write a recording of it.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use volley::clock::VirtualClock;
+use volley::hash::hex;
+use volley::replay::{RecordOptions, Recorder};
+use volley::{LoopError, SimLoop, World};
+
+use super::headless::{HeadlessArgs, load_commands, load_scene, loop_failure, run_length};
+use super::{EXIT_DIVERGED, EXIT_ENVIRONMENT, Failure, fail};
+
+/// Arguments of `volley record`.
+#[derive(Args, Clone)]
+pub struct RecordArgs {
+    /// Scene file, or the name of a bundled scene (see `volley scenes`).
+    pub scene: String,
+    /// The recording to write (overwritten if it exists); `.vrec` by convention.
+    #[arg(short = 'o', long = "output")]
+    pub output: PathBuf,
+    /// Ticks to run (default: the scene's duration).
+    #[arg(long, conflicts_with = "until")]
+    pub ticks: Option<u64>,
+    /// Run until this sim time (s).
+    #[arg(long)]
+    pub until: Option<f64>,
+    /// Command script (`TICK: COMMAND` lines) applied during the run and recorded.
+    #[arg(long)]
+    pub commands: Option<PathBuf>,
+    /// Store the state hash every K ticks (1: every tick).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    pub hash_every: u64,
+    /// Store a keyframe every K ticks for seeking and field reports (0: start and end only).
+    #[arg(long, default_value_t = 600)]
+    pub keyframe_every: u64,
+    /// Integrator override (as for `volley headless`).
+    #[arg(long)]
+    pub integrator: Option<String>,
+    /// Timestep override (s), rounded to whole nanoseconds.
+    #[arg(long)]
+    pub dt: Option<f64>,
+    /// Integrator steps per tick.
+    #[arg(long)]
+    pub substeps: Option<u32>,
+    /// Worker threads for stepping (the recording is the same for any count).
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+}
+
+/// Records the run; a divergence is recorded too (the replay reproduces it) and exits 3.
+pub fn run(args: &RecordArgs) -> Result<(), Failure> {
+    let headless = HeadlessArgs {
+        ticks: args.ticks,
+        until: args.until,
+        integrator: args.integrator.clone(),
+        dt: args.dt,
+        substeps: args.substeps,
+        threads: args.threads,
+        commands: args.commands.clone(),
+        ..HeadlessArgs::for_scene(&args.scene)
+    };
+    let scene = load_scene(&headless)?;
+    let ticks = run_length(&headless, &scene)?;
+    let commands = load_commands(args.commands.as_ref())?;
+    let mut world = World::new(&scene);
+    world.set_threads(args.threads);
+    let mut sim = SimLoop::new(world);
+    sim.schedule(commands);
+    let path = args.output.display().to_string();
+    let io = |e: std::io::Error| fail(EXIT_ENVIRONMENT, format!("{path}: cannot write: {e}"));
+    let file = std::fs::File::create(&args.output).map_err(io)?;
+    let options = RecordOptions {
+        hash_every: args.hash_every,
+        keyframe_every: args.keyframe_every,
+        scene_file: args.scene.clone(),
+        ..RecordOptions::default()
+    };
+    let mut recorder = Recorder::start(file, &sim.world, options).map_err(io)?;
+    let outcome = sim.run_until(
+        ticks,
+        &mut VirtualClock::Steady(scene.timestep),
+        &mut recorder,
+    );
+    if let Err(LoopError::Observer(e)) = outcome {
+        return Err(fail(EXIT_ENVIRONMENT, format!("{path}: {e}")));
+    }
+    let (_, stats) = recorder.finish(&sim.world).map_err(io)?;
+    println!(
+        "recorded ticks {}..={} of `{}` to {path}: {} bytes, {} hashes, {} keyframes, {} \
+         commands; final hash {}",
+        stats.start_tick,
+        stats.last_tick,
+        scene.name,
+        stats.bytes,
+        stats.hashes,
+        stats.keyframes,
+        stats.commands,
+        hex(volley::hash::state_hash(&sim.world))
+    );
+    match outcome {
+        Err(LoopError::Diverged(d)) => Err(fail(
+            EXIT_DIVERGED,
+            format!("{d} (recorded: the replay reproduces it)"),
+        )),
+        Err(e) => Err(loop_failure(e)),
+        Ok(()) => Ok(()),
+    }
+}

@@ -1,0 +1,579 @@
+//! Recording format version 1: the preamble, the frame, and each record's payload.
+//!
+//! ```text
+//! file      = preamble frame*
+//! preamble  = MAGIC (8 bytes "\x89VOLLEY\n")  version:u32
+//! frame     = kind:u8  len:u32  head_check:u16  payload[len]  crc:u32
+//! ```
+//!
+//! All integers are little-endian, floats are their IEEE-754 bit patterns as `u64`. `head_check`
+//! is the low 16 bits of the CRC-32 of `kind` and `len`, so a damaged length is caught before it
+//! is trusted; `crc` is the CRC-32 (`crc32fast`, IEEE polynomial) of the head and the payload.
+//! Payloads by kind:
+//!
+//! | kind | record | payload |
+//! |---|---|---|
+//! | 1 | header | JSON [`Header`]: build facts, the scene text verbatim, timestep, substeps, integrator, start tick, intervals |
+//! | 2 | keyframe | a [`Snapshot`]: see [`encode_keyframe`] |
+//! | 3 | command | `tick:u64` and the command in its script form (UTF-8), applied before the step from `tick` |
+//! | 4 | hash | `tick:u64  state_hash:u64` (the canonical hash of `crate::hash`) |
+//! | 5 | footer | `final_tick:u64  final_hash:u64` and the divergence that ended the run, if one did |
+//!
+//! Order: the header, the keyframe at the start tick, then per tick its hash (every
+//! `hash_every` ticks), its keyframe (every `keyframe_every` ticks) and the commands applied
+//! before its step; at the end a keyframe of the final state and the footer.
+
+use std::io::{self, Write};
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::forces::{ForceKind, Forces};
+use crate::integrate::Integrator;
+use crate::scene::Launcher;
+use crate::world::{BodyId, Divergence, DivergenceCause, Snapshot, SplitMix64, Vec3s};
+
+/// The first 8 bytes of every recording (PNG-style: a high byte, a name, a newline, so a text-
+/// mode transfer that rewrites bytes is caught at once).
+pub const MAGIC: [u8; 8] = *b"\x89VOLLEY\n";
+/// The format version this build writes and the only one it reads.
+pub const FORMAT_VERSION: u32 = 1;
+/// Bytes before the first frame: magic and version.
+pub const PREAMBLE_LEN: usize = 12;
+/// Bytes of a frame head: kind, length, head check.
+pub const HEAD_LEN: usize = 7;
+/// Bytes of the CRC after a payload.
+pub const CRC_LEN: usize = 4;
+/// Bytes of a whole hash frame, the one written every tick.
+pub const HASH_FRAME_LEN: usize = HEAD_LEN + 16 + CRC_LEN;
+
+/// What a frame holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// Build facts and the run's settings, JSON.
+    Header = 1,
+    /// A full snapshot of the world.
+    Keyframe = 2,
+    /// A command applied at a tick boundary.
+    Command = 3,
+    /// The state hash after a tick.
+    Hash = 4,
+    /// The final tick and hash.
+    Footer = 5,
+}
+
+impl Kind {
+    /// The kind with this tag, if any.
+    pub fn from_tag(tag: u8) -> Option<Kind> {
+        [
+            Kind::Header,
+            Kind::Keyframe,
+            Kind::Command,
+            Kind::Hash,
+            Kind::Footer,
+        ]
+        .into_iter()
+        .find(|k| *k as u8 == tag)
+    }
+
+    /// The record's name in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Header => "header",
+            Kind::Keyframe => "keyframe",
+            Kind::Command => "command",
+            Kind::Hash => "hash",
+            Kind::Footer => "footer",
+        }
+    }
+
+    /// Payload lengths (bytes) a record of this kind may have.
+    pub fn allowed_len(self) -> std::ops::RangeInclusive<u32> {
+        match self {
+            Kind::Header => 2..=(64 << 20),
+            Kind::Keyframe => KEYFRAME_FIXED as u32..=u32::MAX,
+            Kind::Command => 9..=4096,
+            Kind::Hash => 16..=16,
+            Kind::Footer => FOOTER_LEN as u32..=FOOTER_LEN as u32,
+        }
+    }
+}
+
+/// The head check of a frame: the low 16 bits of the CRC-32 of its kind and length.
+pub fn head_check(kind: u8, len: u32) -> u16 {
+    let l = len.to_le_bytes();
+    crc32fast::hash(&[kind, l[0], l[1], l[2], l[3]]) as u16
+}
+
+/// The 7 head bytes of a frame.
+pub fn frame_head(kind: Kind, len: u32) -> [u8; HEAD_LEN] {
+    let mut head = [0u8; HEAD_LEN];
+    head[0] = kind as u8;
+    head[1..5].copy_from_slice(&len.to_le_bytes());
+    head[5..7].copy_from_slice(&head_check(kind as u8, len).to_le_bytes());
+    head
+}
+
+/// Writes the magic bytes and the format version.
+pub fn write_preamble(out: &mut impl Write) -> io::Result<()> {
+    out.write_all(&MAGIC)?;
+    out.write_all(&FORMAT_VERSION.to_le_bytes())
+}
+
+/// Writes one whole frame; returns its length in bytes.
+pub fn write_frame(out: &mut impl Write, kind: Kind, payload: &[u8]) -> io::Result<u64> {
+    let len = u32::try_from(payload.len())
+        .map_err(|_| io::Error::other(format!("{} record too large", kind.name())))?;
+    let head = frame_head(kind, len);
+    let mut crc = crc32fast::Hasher::new();
+    crc.update(&head);
+    crc.update(payload);
+    out.write_all(&head)?;
+    out.write_all(payload)?;
+    out.write_all(&crc.finalize().to_le_bytes())?;
+    Ok((HEAD_LEN + payload.len() + CRC_LEN) as u64)
+}
+
+/// The hash frame of one tick, built on the stack: the per-tick write is one `write_all`.
+pub fn hash_frame(tick: u64, hash: u64) -> [u8; HASH_FRAME_LEN] {
+    let mut f = [0u8; HASH_FRAME_LEN];
+    f[..HEAD_LEN].copy_from_slice(&frame_head(Kind::Hash, 16));
+    f[HEAD_LEN..HEAD_LEN + 8].copy_from_slice(&tick.to_le_bytes());
+    f[HEAD_LEN + 8..HEAD_LEN + 16].copy_from_slice(&hash.to_le_bytes());
+    let crc = crc32fast::hash(&f[..HEAD_LEN + 16]);
+    f[HEAD_LEN + 16..].copy_from_slice(&crc.to_le_bytes());
+    f
+}
+
+/// Facts about the build that wrote a recording; the ones that can change bits are compared.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Build {
+    /// `std::env::consts::ARCH`, e.g. `x86_64`.
+    pub target_arch: String,
+    /// `std::env::consts::OS`.
+    pub target_os: String,
+    /// `little` or `big`.
+    pub target_endian: String,
+    /// `debug` (debug assertions on) or `release`; both give the same bits (tested).
+    pub profile: String,
+    /// Enabled target features among those that could matter to floating point.
+    pub target_features: Vec<String>,
+}
+
+impl Build {
+    /// This build.
+    pub fn current() -> Build {
+        let features = [
+            ("sse2", cfg!(target_feature = "sse2")),
+            ("sse4.1", cfg!(target_feature = "sse4.1")),
+            ("avx", cfg!(target_feature = "avx")),
+            ("avx2", cfg!(target_feature = "avx2")),
+            ("fma", cfg!(target_feature = "fma")),
+            ("avx512f", cfg!(target_feature = "avx512f")),
+            ("neon", cfg!(target_feature = "neon")),
+        ];
+        Build {
+            target_arch: std::env::consts::ARCH.into(),
+            target_os: std::env::consts::OS.into(),
+            target_endian: if cfg!(target_endian = "little") {
+                "little"
+            } else {
+                "big"
+            }
+            .into(),
+            profile: if cfg!(debug_assertions) {
+                "debug"
+            } else {
+                "release"
+            }
+            .into(),
+            target_features: features
+                .iter()
+                .filter(|(_, on)| *on)
+                .map(|(name, _)| name.to_string())
+                .collect(),
+        }
+    }
+}
+
+/// The header record: who wrote the file and everything needed to rebuild the run's world.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Header {
+    /// `CARGO_PKG_VERSION` of the writer.
+    pub volley_version: String,
+    /// The writer's build.
+    pub build: Build,
+    /// The hash layout tag ([`crate::hash::HASH_LAYOUT`]) the stored hashes use.
+    pub hash_layout: String,
+    /// The scene's file as given to the writer (for messages only).
+    pub scene_file: String,
+    /// The scene's name.
+    pub scene_name: String,
+    /// The scene file's text, verbatim.
+    pub scene_source: String,
+    /// Timestep (ns) after any override; the physics step is exactly this.
+    pub timestep_ns: u64,
+    /// Integrator steps per tick after any override.
+    pub substeps: u32,
+    /// Integrator at the start tick.
+    pub integrator: Integrator,
+    /// Tick of the first keyframe, where the recording starts.
+    pub start_tick: u64,
+    /// Hashes are stored at ticks that are multiples of this (and at the start and end).
+    pub hash_every: u64,
+    /// Keyframes are stored at ticks that are multiples of this (0: start and end only).
+    pub keyframe_every: u64,
+    /// Worker threads of the recording run; noted only, results do not depend on it.
+    pub threads: usize,
+}
+
+/// The footer record: how the recorded run ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Footer {
+    /// The last tick recorded.
+    pub final_tick: u64,
+    /// The state hash at that tick.
+    pub final_hash: u64,
+    /// The divergence that stopped the run at `final_tick`, if one did.
+    pub diverged: Option<Divergence>,
+}
+
+const FOOTER_LEN: usize = 8 + 8 + 1 + 8 + 8 + 1 + 8 + 8;
+
+/// The footer's payload.
+pub fn encode_footer(f: &Footer) -> [u8; FOOTER_LEN] {
+    let mut w = Words::default();
+    w.u64(f.final_tick).u64(f.final_hash);
+    match f.diverged {
+        None => w.u8(0).u64(0).u64(0).u8(0).u64(0).u64(0),
+        Some(d) => {
+            let (cause, energy, bound) = match d.cause {
+                DivergenceCause::NonFinite => (0, 0.0, 0.0),
+                DivergenceCause::EnergyGrowth { energy, bound } => (1, energy, bound),
+            };
+            w.u8(1)
+                .u64(d.tick)
+                .u64(d.body.0)
+                .u8(cause)
+                .f64(energy)
+                .f64(bound)
+        }
+    };
+    w.bytes().try_into().expect("the footer has a fixed length")
+}
+
+/// Reads a footer's payload.
+pub fn decode_footer(payload: &[u8]) -> Result<Footer, String> {
+    let mut r = Reader::new(payload);
+    let (final_tick, final_hash, flag) = (r.u64()?, r.u64()?, r.u8()?);
+    let (tick, body, cause, energy, bound) = (r.u64()?, r.u64()?, r.u8()?, r.f64()?, r.f64()?);
+    r.end()?;
+    let cause = match cause {
+        0 => DivergenceCause::NonFinite,
+        1 => DivergenceCause::EnergyGrowth { energy, bound },
+        c => return Err(format!("unknown divergence cause {c}")),
+    };
+    let diverged = match flag {
+        0 => None,
+        1 => Some(Divergence {
+            tick,
+            body: BodyId(body),
+            cause,
+        }),
+        f => return Err(format!("divergence flag {f}, expected 0 or 1")),
+    };
+    Ok(Footer {
+        final_tick,
+        final_hash,
+        diverged,
+    })
+}
+
+/// Bytes of a keyframe before its body arrays.
+pub const KEYFRAME_FIXED: usize = 3 * 8 + 3 + 8 * 8 + 8 + 8;
+
+/// Bytes per body in a keyframe: id and 9 floats, plus 3 with a carried force.
+fn per_body(carry: bool) -> usize {
+    if carry { 13 * 8 } else { 10 * 8 }
+}
+
+/// Payload length of a keyframe of `n` bodies, if it fits a frame.
+pub fn keyframe_len(n: usize, carry: bool) -> Option<u32> {
+    n.checked_mul(per_body(carry))
+        .and_then(|b| b.checked_add(KEYFRAME_FIXED))
+        .and_then(|l| u32::try_from(l).ok())
+}
+
+/// Writes a keyframe frame, streaming the body arrays through the CRC: no allocation.
+///
+/// Payload: `tick next_id rng:u64  integrator forces_mask has_carry:u8  launcher (position xyz,
+/// speed, elevation, azimuth, mass, radius):8 f64  force_evals n:u64`, then arrays of n:
+/// ids, p.x p.y p.z, mV.x mV.y mV.z, mass, radius, energy_cap (and carry x y z if has_carry).
+pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
+    let carry = !s.carry.is_empty();
+    let n = s.ids.len();
+    let len = keyframe_len(n, carry).ok_or_else(|| {
+        io::Error::other(format!(
+            "a keyframe of {n} bodies is too large for format v1"
+        ))
+    })?;
+    let mut w = CrcWrite::new(out);
+    w.put(&frame_head(Kind::Keyframe, len))?;
+    let mut fixed = Words::default();
+    let integrator = Integrator::ALL.iter().position(|i| *i == s.integrator);
+    let mask = ForceKind::ALL
+        .iter()
+        .enumerate()
+        .filter(|(_, k)| s.forces.has(**k))
+        .fold(0u8, |m, (_, k)| m | (1 << (*k as u8)));
+    let l = &s.launcher;
+    fixed.u64(s.tick).u64(s.next_id).u64(s.rng.0);
+    fixed
+        .u8(integrator.unwrap_or(0) as u8)
+        .u8(mask)
+        .u8(carry as u8);
+    for x in [
+        l.position.x,
+        l.position.y,
+        l.position.z,
+        l.speed,
+        l.elevation_deg,
+    ] {
+        fixed.f64(x);
+    }
+    fixed.f64(l.azimuth_deg).f64(l.mass).f64(l.radius);
+    fixed.u64(s.force_evals).u64(n as u64);
+    w.put(fixed.bytes())?;
+    w.words(s.ids.iter().map(|id| id.0))?;
+    let arrays: [&[f64]; 12] = [
+        &s.p.x,
+        &s.p.y,
+        &s.p.z,
+        &s.mv.x,
+        &s.mv.y,
+        &s.mv.z,
+        &s.mass,
+        &s.radius,
+        &s.energy_cap,
+        &s.carry.x,
+        &s.carry.y,
+        &s.carry.z,
+    ];
+    for a in &arrays[..if carry { 12 } else { 9 }] {
+        w.words(a.iter().map(|x| x.to_bits()))?;
+    }
+    w.finish()?;
+    Ok((HEAD_LEN + len as usize + CRC_LEN) as u64)
+}
+
+/// Reads a keyframe's payload into `s` (reusing its buffers); `declared` are the scene's force
+/// terms, whose values the active ones take. Checks the structure (sizes, tags, increasing ids,
+/// active terms declared); [`crate::World::restore`] checks the rest against the scene.
+pub fn decode_keyframe(payload: &[u8], declared: &Forces, s: &mut Snapshot) -> Result<(), String> {
+    let mut r = Reader::new(payload);
+    (s.tick, s.next_id, s.rng) = (r.u64()?, r.u64()?, SplitMix64(r.u64()?));
+    let (integrator, mask, carry) = (r.u8()?, r.u8()?, r.u8()?);
+    s.integrator = *Integrator::ALL
+        .get(usize::from(integrator))
+        .ok_or_else(|| format!("unknown integrator tag {integrator}"))?;
+    if mask >> ForceKind::ALL.len() != 0 || carry > 1 {
+        return Err(format!(
+            "force mask {mask:#x} or carry flag {carry} out of range"
+        ));
+    }
+    let active = |k: ForceKind| mask & (1 << (k as u8)) != 0;
+    if let Some(k) = ForceKind::ALL
+        .into_iter()
+        .find(|&k| active(k) && !declared.has(k))
+    {
+        return Err(format!(
+            "force term {} is active but not declared",
+            k.name()
+        ));
+    }
+    s.forces = declared.filtered(active);
+    let mut f = [0.0; 8];
+    for x in &mut f {
+        *x = r.f64()?;
+    }
+    s.launcher = Launcher {
+        position: DVec3::new(f[0], f[1], f[2]),
+        speed: f[3],
+        elevation_deg: f[4],
+        azimuth_deg: f[5],
+        mass: f[6],
+        radius: f[7],
+    };
+    s.force_evals = r.u64()?;
+    let n = r.u64()?;
+    let expected = usize::try_from(n)
+        .ok()
+        .and_then(|n| keyframe_len(n, carry == 1))
+        .filter(|&l| l as usize == payload.len())
+        .ok_or_else(|| format!("{n} bodies do not fit a {} byte keyframe", payload.len()))?;
+    debug_assert_eq!(expected as usize, payload.len());
+    let n = n as usize;
+    s.ids.clear();
+    s.ids.extend(r.take_u64s(n)?.map(BodyId));
+    if !s.ids.windows(2).all(|w| w[0] < w[1]) {
+        return Err("body ids are not increasing".into());
+    }
+    for v in [&mut s.p, &mut s.mv] {
+        read_vec3s(&mut r, n, v)?;
+    }
+    for a in [&mut s.mass, &mut s.radius, &mut s.energy_cap] {
+        a.clear();
+        a.extend(r.take_u64s(n)?.map(f64::from_bits));
+    }
+    if carry == 1 {
+        read_vec3s(&mut r, n, &mut s.carry)?;
+    } else {
+        read_vec3s(&mut r, 0, &mut s.carry)?;
+    }
+    r.end()
+}
+
+fn read_vec3s(r: &mut Reader, n: usize, v: &mut Vec3s) -> Result<(), String> {
+    for c in [&mut v.x, &mut v.y, &mut v.z] {
+        c.clear();
+        c.extend(r.take_u64s(n)?.map(f64::from_bits));
+    }
+    Ok(())
+}
+
+/// A little-endian field builder for the small fixed payloads, on the stack.
+pub(crate) struct Words {
+    buf: [u8; 128],
+    len: usize,
+}
+
+impl Default for Words {
+    fn default() -> Self {
+        Words {
+            buf: [0; 128],
+            len: 0,
+        }
+    }
+}
+
+impl Words {
+    pub(crate) fn bytes(&self) -> &[u8] {
+        &self.buf[..self.len]
+    }
+    pub(crate) fn u8(&mut self, x: u8) -> &mut Self {
+        self.buf[self.len] = x;
+        self.len += 1;
+        self
+    }
+    pub(crate) fn u64(&mut self, x: u64) -> &mut Self {
+        self.buf[self.len..self.len + 8].copy_from_slice(&x.to_le_bytes());
+        self.len += 8;
+        self
+    }
+    pub(crate) fn f64(&mut self, x: f64) -> &mut Self {
+        self.u64(x.to_bits())
+    }
+}
+
+/// A bounds-checked little-endian reader over a payload; every read can fail, none panics.
+pub(crate) struct Reader<'a> {
+    buf: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Reader<'a> {
+    pub(crate) fn new(buf: &'a [u8]) -> Reader<'a> {
+        Reader { buf, at: 0 }
+    }
+
+    fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+        let end = self.at.checked_add(n).filter(|&e| e <= self.buf.len());
+        let end = end.ok_or_else(|| format!("payload ends at byte {}", self.buf.len()))?;
+        let out = &self.buf[self.at..end];
+        self.at = end;
+        Ok(out)
+    }
+
+    pub(crate) fn u8(&mut self) -> Result<u8, String> {
+        Ok(self.take(1)?[0])
+    }
+
+    pub(crate) fn u64(&mut self) -> Result<u64, String> {
+        let b = self.take(8)?;
+        Ok(u64::from_le_bytes(
+            b.try_into().expect("take(8) gives 8 bytes"),
+        ))
+    }
+
+    pub(crate) fn f64(&mut self) -> Result<f64, String> {
+        self.u64().map(f64::from_bits)
+    }
+
+    fn take_u64s(&mut self, n: usize) -> Result<impl Iterator<Item = u64> + 'a, String> {
+        let bytes = self.take(n.checked_mul(8).ok_or("array too long")?)?;
+        Ok(bytes
+            .chunks_exact(8)
+            .map(|c| u64::from_le_bytes(c.try_into().expect("chunks of 8"))))
+    }
+
+    /// The rest of the payload.
+    pub(crate) fn rest(&mut self) -> &'a [u8] {
+        let out = &self.buf[self.at..];
+        self.at = self.buf.len();
+        out
+    }
+
+    pub(crate) fn end(&self) -> Result<(), String> {
+        if self.at == self.buf.len() {
+            Ok(())
+        } else {
+            Err(format!(
+                "{} unread bytes at the end",
+                self.buf.len() - self.at
+            ))
+        }
+    }
+}
+
+/// A writer that feeds every byte through a CRC-32 and appends it at the end.
+struct CrcWrite<'a, W: Write> {
+    out: &'a mut W,
+    crc: crc32fast::Hasher,
+    buf: [u8; 4096],
+}
+
+impl<'a, W: Write> CrcWrite<'a, W> {
+    fn new(out: &'a mut W) -> Self {
+        CrcWrite {
+            out,
+            crc: crc32fast::Hasher::new(),
+            buf: [0; 4096],
+        }
+    }
+
+    fn put(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.crc.update(bytes);
+        self.out.write_all(bytes)
+    }
+
+    /// Writes 64-bit words little-endian, 512 at a time through a stack buffer.
+    fn words(&mut self, words: impl Iterator<Item = u64>) -> io::Result<()> {
+        let mut at = 0;
+        for w in words {
+            self.buf[at..at + 8].copy_from_slice(&w.to_le_bytes());
+            at += 8;
+            if at == self.buf.len() {
+                self.crc.update(&self.buf);
+                self.out.write_all(&self.buf)?;
+                at = 0;
+            }
+        }
+        self.crc.update(&self.buf[..at]);
+        self.out.write_all(&self.buf[..at])
+    }
+
+    fn finish(self) -> io::Result<()> {
+        let crc = self.crc.finalize();
+        self.out.write_all(&crc.to_le_bytes())
+    }
+}

@@ -1,0 +1,233 @@
+//! The recorder: a [`TickObserver`] that writes a recording as the loop runs.
+//!
+//! Per tick it writes one 27-byte hash frame built on the stack into a 64 KiB buffer (no
+//! allocation); keyframes stream the world's arrays through the CRC from a snapshot buffer that
+//! is reused; commands are formatted into a reused string. The buffer reaches the file by the
+//! [`FlushPolicy`]: by default at least every 50 ms of wall time, so a run killed by Ctrl-C or
+//! a crash loses at most the last 50 ms and the file still opens, as truncated. (The wall clock
+//! is read after a tick, by the observer; it never touches the simulation.)
+//!
+//! Starting and stopping from another observer (the window's record toggle): hold an
+//! `Option<Recorder<W>>`, forward the [`TickObserver`] calls to it while it is `Some`, create it
+//! with [`Recorder::start`] between frames and end it with [`Recorder::finish`]. A recording
+//! may start at any tick: its first keyframe is the state it starts from.
+
+use std::io::{self, BufWriter, Write};
+use std::time::{Duration, Instant};
+
+use crate::command::Stamped;
+use crate::hash::state_hash;
+use crate::sim_loop::{ObserverError, TickObserver};
+use crate::world::{Snapshot, World};
+
+use super::format::{self, Build, Footer, Header, Kind};
+
+/// When the recorder hands its buffer to the file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FlushPolicy {
+    /// After every tick: nothing is lost to a kill, at one write call per tick.
+    EveryTick,
+    /// After a tick, once at least this much wall time passed since the last flush.
+    Interval(Duration),
+    /// Only when the buffer fills and at [`Recorder::finish`] (benchmarks, in-memory writers).
+    OnFinish,
+}
+
+/// What to record and how often.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RecordOptions {
+    /// Store the state hash at ticks that are multiples of this (at least 1; default 1).
+    pub hash_every: u64,
+    /// Store a keyframe at ticks that are multiples of this; 0 keeps only the start and end
+    /// keyframes. Default 600 (10 s at 60 Hz): a seek re-simulates at most 599 ticks.
+    pub keyframe_every: u64,
+    /// Flushing; default every 50 ms of wall time.
+    pub flush: FlushPolicy,
+    /// The scene's file as the user named it, kept in the header for messages.
+    pub scene_file: String,
+}
+
+impl Default for RecordOptions {
+    fn default() -> Self {
+        RecordOptions {
+            hash_every: 1,
+            keyframe_every: 600,
+            flush: FlushPolicy::Interval(Duration::from_millis(50)),
+            scene_file: String::new(),
+        }
+    }
+}
+
+/// What a recorder wrote so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RecordStats {
+    /// Tick of the first keyframe.
+    pub start_tick: u64,
+    /// The last tick seen.
+    pub last_tick: u64,
+    /// Bytes written (buffered or not).
+    pub bytes: u64,
+    /// Hash records.
+    pub hashes: u64,
+    /// Keyframes, the start and final ones included.
+    pub keyframes: u64,
+    /// Commands.
+    pub commands: u64,
+}
+
+/// Writes a recording of the world it observes to any [`Write`].
+pub struct Recorder<W: Write> {
+    out: BufWriter<W>,
+    options: RecordOptions,
+    snapshot: Snapshot,
+    text: String,
+    payload: Vec<u8>,
+    last_flush: Instant,
+    last_hash: Option<u64>,
+    last_keyframe: u64,
+    stats: RecordStats,
+}
+
+impl<W: Write> Recorder<W> {
+    /// Starts a recording of `world` as it is now: writes the preamble, the header, the keyframe
+    /// and the hash of the current tick.
+    pub fn start(out: W, world: &World, options: RecordOptions) -> io::Result<Recorder<W>> {
+        if options.hash_every == 0 {
+            return Err(io::Error::other("hash_every must be at least 1"));
+        }
+        let scene = world.scene();
+        let header = Header {
+            volley_version: env!("CARGO_PKG_VERSION").into(),
+            build: Build::current(),
+            hash_layout: String::from_utf8_lossy(crate::hash::HASH_LAYOUT).into_owned(),
+            scene_file: options.scene_file.clone(),
+            scene_name: scene.name.clone(),
+            scene_source: scene.source.clone(),
+            timestep_ns: scene.timestep.as_nanos() as u64,
+            substeps: world.substeps(),
+            integrator: world.integrator(),
+            start_tick: world.tick(),
+            hash_every: options.hash_every,
+            keyframe_every: options.keyframe_every,
+            threads: world.threads(),
+        };
+        let json = serde_json::to_vec(&header).map_err(io::Error::other)?;
+        let mut out = BufWriter::with_capacity(64 * 1024, out);
+        format::write_preamble(&mut out)?;
+        let mut bytes = format::PREAMBLE_LEN as u64;
+        bytes += format::write_frame(&mut out, Kind::Header, &json)?;
+        let mut recorder = Recorder {
+            out,
+            options,
+            snapshot: world.snapshot(),
+            text: String::with_capacity(256),
+            payload: Vec::with_capacity(256),
+            last_flush: Instant::now(),
+            last_hash: None,
+            last_keyframe: world.tick(),
+            stats: RecordStats {
+                start_tick: world.tick(),
+                last_tick: world.tick(),
+                bytes,
+                ..RecordStats::default()
+            },
+        };
+        recorder.stats.bytes += format::encode_keyframe(&mut recorder.out, &recorder.snapshot)?;
+        recorder.stats.keyframes = 1;
+        recorder.write_hash(world)?;
+        recorder.out.flush()?;
+        Ok(recorder)
+    }
+
+    /// What was written so far.
+    pub fn stats(&self) -> RecordStats {
+        self.stats
+    }
+
+    /// Ends the recording at the world's current tick: a keyframe of the final state (unless
+    /// one was just written), the footer with the final tick, hash and divergence if the run
+    /// stopped on one; flushes and returns the writer and the final counts.
+    pub fn finish(mut self, world: &World) -> io::Result<(W, RecordStats)> {
+        let tick = world.tick();
+        if tick != self.last_keyframe {
+            self.write_keyframe(world)?;
+        }
+        let footer = Footer {
+            final_tick: tick,
+            final_hash: state_hash(world),
+            diverged: world.divergence(),
+        };
+        self.stats.bytes +=
+            format::write_frame(&mut self.out, Kind::Footer, &format::encode_footer(&footer))?;
+        self.stats.last_tick = tick;
+        self.out.flush()?;
+        let out = self.out.into_inner().map_err(|e| e.into_error())?;
+        Ok((out, self.stats))
+    }
+
+    fn write_hash(&mut self, world: &World) -> io::Result<()> {
+        let tick = world.tick();
+        self.out
+            .write_all(&format::hash_frame(tick, state_hash(world)))?;
+        self.stats.bytes += format::HASH_FRAME_LEN as u64;
+        self.stats.hashes += 1;
+        self.last_hash = Some(tick);
+        Ok(())
+    }
+
+    fn write_keyframe(&mut self, world: &World) -> io::Result<()> {
+        world.snapshot_into(&mut self.snapshot);
+        self.stats.bytes += format::encode_keyframe(&mut self.out, &self.snapshot)?;
+        self.stats.keyframes += 1;
+        self.last_keyframe = world.tick();
+        Ok(())
+    }
+
+    fn tick(&mut self, world: &World) -> io::Result<()> {
+        let tick = world.tick();
+        self.stats.last_tick = tick;
+        if tick.is_multiple_of(self.options.hash_every) {
+            self.write_hash(world)?;
+        }
+        let every = self.options.keyframe_every;
+        if every > 0 && tick.is_multiple_of(every) {
+            self.write_keyframe(world)?;
+        }
+        let due = match self.options.flush {
+            FlushPolicy::EveryTick => true,
+            FlushPolicy::Interval(d) => self.last_flush.elapsed() >= d,
+            FlushPolicy::OnFinish => false,
+        };
+        if due {
+            self.out.flush()?;
+            self.last_flush = Instant::now();
+        }
+        Ok(())
+    }
+
+    fn command(&mut self, stamped: &Stamped) -> io::Result<()> {
+        use std::fmt::Write as _;
+        self.text.clear();
+        write!(self.text, "{}", stamped.command).map_err(io::Error::other)?;
+        self.payload.clear();
+        self.payload.extend_from_slice(&stamped.tick.to_le_bytes());
+        self.payload.extend_from_slice(self.text.as_bytes());
+        self.stats.bytes += format::write_frame(&mut self.out, Kind::Command, &self.payload)?;
+        self.stats.commands += 1;
+        Ok(())
+    }
+}
+
+fn observer_error(e: io::Error) -> ObserverError {
+    ObserverError(format!("cannot write the recording: {e}"))
+}
+
+impl<W: Write> TickObserver for Recorder<W> {
+    fn on_command(&mut self, _world: &World, stamped: &Stamped) -> Result<(), ObserverError> {
+        self.command(stamped).map_err(observer_error)
+    }
+
+    fn after_tick(&mut self, world: &World) -> Result<(), ObserverError> {
+        self.tick(world).map_err(observer_error)
+    }
+}
