@@ -19,3 +19,34 @@ fn seed_scene_hash_is_pinned() {
         .unwrap();
     assert_eq!(hex(state_hash(&sim.world)), SEED_HASH_AT_27);
 }
+
+/// Final hash of the golden recording, tests/data/golden.vrec: the replay coverage scene and
+/// script (a seeded volley, bounces, a wall, a target, a spring, drag toggled on and off, every
+/// kind of command, velocity Verlet's carried force) over 300 ticks, a hash every tick and a
+/// keyframe every 50. Re-simulating it must match every stored hash and keyframe, in debug and in
+/// release. A physics change that alters any bit must regenerate the file and update this on
+/// purpose (see the README, "Replays"):
+/// `cargo run -- record tests/data/replay_scene.ron --commands tests/data/replay_commands.txt
+/// --ticks 300 --keyframe-every 50 -o tests/data/golden.vrec`
+const GOLDEN_REPLAY_FINAL_HASH: &str = "0xa3bb4937f154ea1f";
+
+#[test]
+fn golden_replay_verifies_every_tick_and_its_final_hash_is_pinned() {
+    use volley::replay::{Recording, Replay};
+    let recording = Recording::open(Path::new("tests/data/golden.vrec")).unwrap();
+    let footer = recording
+        .footer()
+        .copied()
+        .expect("the golden file is complete");
+    let mut replay = Replay::start(recording, None).unwrap();
+    replay.run_to(u64::MAX, &mut ()).unwrap();
+    if let Some(d) = replay.first_divergence() {
+        panic!("the golden replay diverged:\n{}", d.report(Some(20)));
+    }
+    assert_eq!(
+        (replay.hashes_checked(), replay.keyframes_checked()),
+        (301, 7)
+    );
+    assert_eq!(hex(state_hash(replay.world())), GOLDEN_REPLAY_FINAL_HASH);
+    assert_eq!(hex(footer.final_hash), GOLDEN_REPLAY_FINAL_HASH);
+}
