@@ -125,15 +125,20 @@ pub enum EventKind {
         /// Which surface.
         surface: Surface,
     },
-    /// The body passed a target: its closest approach, and whether it hit.
+    /// The body touched a target: its centre came within the two radii of the target's. The
+    /// event's time is the moment of first contact.
+    Hit {
+        /// Index of the target in the scene.
+        target: u32,
+    },
+    /// The body passed a target: the event's time is its closest approach (swept detection).
     Approach {
         /// Index of the target in the scene.
         target: u32,
-        /// Closest distance between the body's and the target's centres (m) (for discrete
-        /// detection: the distance at the end of the step in which it entered).
+        /// Closest distance between the body's and the target's centres (m): 0 is dead centre.
         distance: f64,
-        /// Sim time (s) when the body first touched the target, if it did.
-        hit_time: Option<f64>,
+        /// Whether that is within the two radii (a [`EventKind::Hit`] was reported on entry).
+        hit: bool,
     },
 }
 
@@ -227,8 +232,10 @@ pub(crate) fn needs_resolution(
     }
     for t in &contacts.targets {
         let (g0, g1) = (approach_rate(t, s0, inv_m), approach_rate(t, s1, inv_m));
-        let reach = t.radius + r;
-        if (g0 < 0.0 && g1 >= 0.0) || (s1.p - t.center).length_squared() <= reach * reach {
+        let reach2 = (t.radius + r) * (t.radius + r);
+        let entered = (s0.p - t.center).length_squared() > reach2
+            && (s1.p - t.center).length_squared() <= reach2;
+        if (g0 < 0.0 && g1 >= 0.0) || entered {
             return true;
         }
     }
@@ -422,7 +429,9 @@ fn clamp_outside(frame: &StepFrame, body: Particle, s: &mut BodyState) {
     }
 }
 
-/// Looks for target passes on the segment from `a` over `duration` to `b`.
+/// Looks for target entries and closest approaches on the segment from `a` over `duration` to
+/// `b`. The distance to a target's centre along the segment falls while `(p - c) . V < 0`, so
+/// its minimum is at the sign change of that rate (if inside the segment) or at an end.
 #[allow(clippy::too_many_arguments)]
 fn targets_on_segment<S: Scheme>(
     scheme: &S,
@@ -435,49 +444,53 @@ fn targets_on_segment<S: Scheme>(
     out: &mut Vec<Event>,
     evals: &mut u64,
 ) {
+    let path = |tau: f64| scheme.step(a, body.w, tau, ca).0;
     for (i, target) in frame.contacts.targets.iter().enumerate() {
+        let reach = target.radius + body.r;
+        let gap = |s: &BodyState| (s.p - target.center).length() - reach;
         let (g0, g1) = (
             approach_rate(target, &a, body.w.inv),
             approach_rate(target, &b, body.w.inv),
         );
-        if !(g0 < 0.0 && g1 >= 0.0) {
-            continue;
-        }
-        let path = |tau: f64| scheme.step(a, body.w, tau, ca).0;
-        let (tau_min, n) = bracketed_root(
-            |tau| approach_rate(target, &path(tau), body.w.inv),
-            (0.0, g0),
-            (duration, g1),
-        );
-        *evals += n * S::EVALS;
-        let closest = path(tau_min);
-        *evals += S::EVALS;
-        let distance = (closest.p - target.center).length();
-        let reach = target.radius + body.r;
-        let hit_time = (distance <= reach).then(|| {
-            let gap = |s: &BodyState| (s.p - target.center).length() - reach;
-            let gap0 = gap(&a);
-            if gap0 <= 0.0 {
-                return frame.t0 + elapsed;
-            }
-            let (tau_hit, n) = bracketed_root(
-                |tau| gap(&path(tau)),
-                (0.0, gap0),
-                (tau_min, distance - reach),
+        // Where along the segment the distance is smallest.
+        let (tau_min, closest) = if g0 < 0.0 && g1 >= 0.0 {
+            let (tau, n) = bracketed_root(
+                |tau| approach_rate(target, &path(tau), body.w.inv),
+                (0.0, g0),
+                (duration, g1),
             );
+            *evals += (n + 1) * S::EVALS;
+            (Some(tau), path(tau))
+        } else if g1 < 0.0 {
+            (None, b)
+        } else {
+            (None, a)
+        };
+        let gap_min = gap(&closest);
+        let gap0 = gap(&a);
+        if gap0 > 0.0 && gap_min <= 0.0 {
+            let end = tau_min.unwrap_or(duration);
+            let (tau_hit, n) = bracketed_root(|tau| gap(&path(tau)), (0.0, gap0), (end, gap_min));
             *evals += n * S::EVALS;
-            frame.t0 + elapsed + tau_hit
-        });
-        out.push(Event {
-            tick: frame.tick,
-            time: frame.t0 + elapsed + tau_min,
-            body: body.id,
-            kind: EventKind::Approach {
-                target: i as u32,
-                distance,
-                hit_time,
-            },
-        });
+            out.push(Event {
+                tick: frame.tick,
+                time: frame.t0 + elapsed + tau_hit,
+                body: body.id,
+                kind: EventKind::Hit { target: i as u32 },
+            });
+        }
+        if let Some(tau) = tau_min {
+            out.push(Event {
+                tick: frame.tick,
+                time: frame.t0 + elapsed + tau,
+                body: body.id,
+                kind: EventKind::Approach {
+                    target: i as u32,
+                    distance: gap_min + reach,
+                    hit: gap_min <= 0.0,
+                },
+            });
+        }
     }
 }
 
@@ -535,11 +548,7 @@ fn resolve_discrete<S: Scheme>(
                 tick: frame.tick,
                 time: t_end,
                 body: body.id,
-                kind: EventKind::Approach {
-                    target: i as u32,
-                    distance: d1,
-                    hit_time: Some(t_end),
-                },
+                kind: EventKind::Hit { target: i as u32 },
             });
         }
     }

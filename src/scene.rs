@@ -89,7 +89,7 @@ impl Scene {
     /// rounded up otherwise. Negative spans give 0.
     pub fn ticks_until(&self, t: f64) -> u64 {
         let n = (t - self.start_time) / self.dt();
-        if !(n > 0.0) {
+        if n.is_nan() || n <= 0.0 {
             return 0;
         }
         let nearest = n.round();

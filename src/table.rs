@@ -206,15 +206,14 @@ pub fn describe(e: &Event) -> String {
             format!("{head}: impact on {on} at {normal_speed:.6} m/s, penetration {depth:.6} m")
         }
         EventKind::Rest { surface } => format!("{head}: came to rest on {surface:?}"),
+        EventKind::Hit { target } => format!("{head}: HIT target {target}"),
         EventKind::Approach {
             target,
             distance,
-            hit_time,
-        } => match hit_time {
-            Some(t) => format!(
-                "{head}: HIT target {target} at t={t:.9} s, closest approach {distance:.6} m"
-            ),
-            None => format!("{head}: passed target {target}, closest approach {distance:.6} m"),
-        },
+            hit,
+        } => format!(
+            "{head}: closest approach to target {target}: {distance:.6} m{}",
+            if hit { " (hit)" } else { " (miss)" }
+        ),
     }
 }

@@ -1,0 +1,151 @@
+//! Bad input never panics: errors name the file and line:column or the field, and what was
+//! expected; the CLI prints one line and exits non-zero; a diverging run keeps its table.
+
+use std::process::Command;
+
+use proptest::prelude::*;
+use volley::scene;
+
+fn volley(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_volley"))
+        .args(args)
+        .output()
+        .expect("the binary runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn write_scene(name: &str, text: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("volley-bad-input-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+const GOOD: &str = r#"Scene(
+    dt: 0.1,
+    integrator: SemiImplicitEuler,
+    forces: [Gravity((0.0, 0.0, -9.81))],
+    bodies: [(mass: 1.0, position: (0.0, 0.0, 1.0))],
+)"#;
+
+#[test]
+fn a_syntax_error_names_file_line_and_column_in_one_line() {
+    let path = write_scene("syntax.ron", &GOOD.replace("dt: 0.1,", "dt: 0.1"));
+    let (code, _, err) = volley(&["headless", path.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    let expected = format!("error: {}:3:", path.display());
+    assert!(err.starts_with(&expected), "{err}");
+}
+
+#[test]
+fn invalid_values_name_the_field_and_what_was_expected() {
+    let cases = [
+        ("mass: 1.0", "mass: 0.0", "bodies[0].mass", "> 0"),
+        ("mass: 1.0", "mass: -2.5", "bodies[0].mass", "> 0"),
+        ("dt: 0.1", "dt: -0.1", "dt", "> 0"),
+        ("dt: 0.1", "dt: NaN", "dt", "finite"),
+        ("dt: 0.1", "dt: inf", "dt", "finite"),
+        (
+            "(0.0, 0.0, 1.0)",
+            "(0.0, NaN, 1.0)",
+            "bodies[0].position",
+            "finite",
+        ),
+        ("-9.81", "-inf", "forces[0]", "finite"),
+    ];
+    for (from, to, field, expected) in cases {
+        let err = scene::parse(&GOOD.replace(from, to), "s.ron", "s").unwrap_err();
+        assert_eq!(err.field.as_deref(), Some(field), "{to}: {err}");
+        assert!(err.message.contains(expected), "{to}: {err}");
+        assert!(
+            err.to_string().starts_with(&format!("s.ron: {field}: ")),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn unknown_integrators_and_forces_are_named_with_the_alternatives() {
+    let err =
+        scene::parse(&GOOD.replace("SemiImplicitEuler", "Leapfrog"), "s.ron", "s").unwrap_err();
+    assert!(
+        err.message.contains("Leapfrog") && err.position.is_some(),
+        "{err}"
+    );
+    assert!(
+        err.message.contains("Rk4"),
+        "lists what was expected: {err}"
+    );
+    let err = scene::parse(&GOOD.replace("Gravity(", "Antigravity("), "s.ron", "s").unwrap_err();
+    assert!(
+        err.message.contains("Antigravity") && err.message.contains("LinearDrag"),
+        "{err}"
+    );
+    let (code, _, err) = volley(&["headless", "seed", "--integrator", "leapfrog"]);
+    assert_eq!((code, err.lines().count()), (2, 1), "{err}");
+    assert!(err.contains("explicit-euler"), "{err}");
+}
+
+#[test]
+fn cli_errors_are_one_line_with_a_nonzero_exit() {
+    for args in [
+        vec!["headless"],
+        vec!["headless", "no-such-scene"],
+        vec!["headless", "seed", "--dt", "0"],
+        vec!["headless", "seed", "--ticks", "ten"],
+        vec!["aim", "--from", "0,0", "--to", "1,1,1", "--speed", "3"],
+        vec!["aim", "--from", "0,0,0", "--to", "1000,0,0", "--speed", "3"],
+        vec!["warp"],
+    ] {
+        let (code, _, err) = volley(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn a_diverging_run_says_where_and_keeps_the_table_printed_so_far() {
+    // Explicit Euler on a stiff spring (w h = 1.67): the amplitude grows by 1.94 per step and the
+    // energy passes 10x its start within two steps.
+    let path = write_scene(
+        "stiff.ron",
+        r#"Scene(dt: 0.016666666666666666, integrator: ExplicitEuler,
+            forces: [Spring(anchor: (0.0, 0.0, 0.0), stiffness: 10000.0)],
+            bodies: [(mass: 1.0, position: (1.0, 0.0, 0.0))])"#,
+    );
+    let (code, out, err) = volley(&["headless", path.to_str().unwrap()]);
+    assert_eq!(code, 3, "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with("error: diverged at tick 2 (body 0)"),
+        "{err}"
+    );
+    let rows: Vec<&str> = out
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("tick"))
+        .collect();
+    assert_eq!(rows.len(), 2, "rows for ticks 0 and 1 are kept: {out}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(3000))]
+
+    /// Any mutation of a valid scene parses or fails with an error; nothing panics.
+    #[test]
+    fn mangled_scenes_never_panic(
+        cut in 0usize..GOOD.len(),
+        insert in "[ -~]{0,8}",
+        keep in any::<bool>(),
+    ) {
+        let mut text = GOOD.to_string();
+        let at = (0..=cut).rev().find(|i| text.is_char_boundary(*i)).unwrap_or(0);
+        if keep { text.insert_str(at, &insert) } else { text.replace_range(at.., &insert) }
+        let _ = scene::parse(&text, "fuzz.ron", "fuzz");
+    }
+}
