@@ -305,6 +305,27 @@ fn a_keyframe_field_the_hash_does_not_cover_is_still_compared() {
 }
 
 #[test]
+fn a_force_evaluation_count_that_differs_is_a_warning_not_a_divergence() {
+    let bytes = record(&coverage_scene(), 150, &coverage_commands(), options(1, 50));
+    let mut frames = frames(&bytes);
+    let keyframe_50 = frames
+        .iter_mut()
+        .find(|f| f.kind == 2 && f.payload[..8] == 50u64.to_le_bytes())
+        .unwrap();
+    // force_evals: after the 27 bytes of ticks, ids, tags and the 8 launcher floats.
+    let evals = u64::from_le_bytes(keyframe_50.payload[91..99].try_into().unwrap());
+    keyframe_50.payload[91..99].copy_from_slice(&(evals + 5).to_le_bytes());
+    let replay = replay(&assemble(&frames), None);
+    assert!(replay.first_divergence().is_none());
+    let (tick, f) = replay.force_evals_differ().unwrap();
+    assert_eq!((tick, f.field.as_str()), (50, "force_evals"));
+    assert_eq!(
+        (&f.recorded, &f.replayed),
+        (&Value::U64(evals + 5), &Value::U64(evals))
+    );
+}
+
+#[test]
 fn a_recorded_divergence_replays_as_the_same_divergence() {
     // The reference's stiff spring: k/m = 1e4 at h = 1/60, explicit Euler, blows up.
     let scene = scene::parse(

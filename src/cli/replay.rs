@@ -83,6 +83,12 @@ pub fn run(args: &ReplayArgs) -> Result<(), Failure> {
     } else {
         play(args, &mut replay)?;
     }
+    if let Some((tick, f)) = replay.force_evals_differ() {
+        eprintln!(
+            "warning: {file}: {f} at the keyframe of tick {tick} (a cost counter, not state: \
+             the evaluation bookkeeping changed)"
+        );
+    }
     if let Some(d) = replay.first_divergence() {
         let report = d.report(args.diff_limit);
         if args.verify {

@@ -31,8 +31,8 @@ pub enum Mismatch {
         /// The replay's hash.
         replayed: u64,
     },
-    /// Every hash agreed, but a keyframe differs in a field the hash does not cover (launcher,
-    /// force toggles, integrator, energy caps, force evaluations, carried force).
+    /// Every hash agreed, but a keyframe differs in a field the hash does not cover and that
+    /// decides the future (launcher, force toggles, integrator, energy caps, carried force).
     Fields,
     /// The replay's divergence guard stopped it where the recording went on.
     ReplayDiverged(Divergence),
@@ -186,6 +186,7 @@ pub struct Replay<R> {
     started_at: u64,
     next_keyframe: usize,
     keyframes_checked: u64,
+    evals_differ: Option<(u64, FieldDiff)>,
     progress: Progress,
     first: Option<FirstDivergence>,
     recorded: Snapshot,
@@ -217,6 +218,7 @@ impl<R: Read + Seek> Replay<R> {
             sim,
             started_at: tick,
             keyframes_checked: 0,
+            evals_differ: None,
             progress: Progress::default(),
             first: None,
             recorded: snapshot.clone(),
@@ -256,6 +258,13 @@ impl<R: Read + Seek> Replay<R> {
     /// Keyframes compared field by field so far.
     pub fn keyframes_checked(&self) -> u64 {
         self.keyframes_checked
+    }
+
+    /// The first keyframe tick whose force-evaluation count differs, with both counts. The
+    /// count is a cost counter, not state (it never changes what happens next), so this is a
+    /// warning, not a divergence: it means the evaluation bookkeeping changed.
+    pub fn force_evals_differ(&self) -> Option<(u64, &FieldDiff)> {
+        self.evals_differ.as_ref().map(|(t, f)| (*t, f))
     }
 
     /// The first divergence, once it is known with its field report.
@@ -337,8 +346,15 @@ impl<R: Read + Seek> Replay<R> {
             .read_keyframe(index, &self.scene, &mut self.recorded)?;
         self.sim.world.snapshot_into(&mut self.replayed);
         let fields = diff(&self.recorded, &self.replayed);
-        if self.progress.pending.is_none() && !fields.is_empty() {
+        let counter = |f: &FieldDiff| f.body.is_none() && f.field == "force_evals";
+        if self.progress.pending.is_none() && fields.iter().any(|f| !counter(f)) {
             self.progress.part(tick, Mismatch::Fields);
+        }
+        if self.evals_differ.is_none() {
+            self.evals_differ = fields
+                .iter()
+                .find(|f| counter(f))
+                .map(|f| (tick, f.clone()));
         }
         if let Some(mut p) = self.progress.pending.take() {
             p.compared_at = Some(tick);
