@@ -40,6 +40,7 @@ fn record_then_verify_prints_the_ticks_and_the_final_hash() {
         stdout.starts_with("verified 27 ticks, final hash 0xe02a9ef4a1ddb321 (ticks 0..=27: 28"),
         "{stdout}"
     );
+    let _ = std::fs::remove_file(&file);
 }
 
 #[test]
@@ -63,6 +64,7 @@ fn replay_prints_the_same_table_as_the_run_it_recorded() {
     assert!(play.status.success(), "{}", text(&play.stderr));
     assert!(text(&run.stdout).lines().count() > 120 * 27);
     assert_eq!(text(&play.stdout), text(&run.stdout));
+    let _ = std::fs::remove_file(&file);
 }
 
 #[test]
@@ -99,6 +101,7 @@ fn a_divergent_recording_exits_1_naming_tick_body_and_field() {
             file.display()
         )
     );
+    let _ = std::fs::remove_file(&file);
 }
 
 #[test]
@@ -141,6 +144,7 @@ fn damaged_or_foreign_recordings_exit_2_with_one_line() {
             );
             assert!(stderr.contains(expected), "{name}: {stderr}");
         }
+        let _ = std::fs::remove_file(&file);
     }
     let out = volley(&["replay", "/nonexistent/run.vrec"]);
     assert_eq!(out.status.code(), Some(2));
@@ -181,4 +185,5 @@ fn a_recording_killed_mid_run_opens_truncated_and_verifies() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(text(&out.stderr).contains(&format!("truncated after tick {end}")));
     assert!(text(&out.stdout).starts_with(&format!("verified {end} ticks")));
+    let _ = std::fs::remove_file(&file);
 }
