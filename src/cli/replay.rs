@@ -152,5 +152,9 @@ fn play<R: std::io::Read + std::io::Seek>(
     let outcome = replay.run_to(u64::MAX, &mut table);
     table.flush().map_err(io)?;
     outcome.map_err(failure)?;
-    table.summary(&Summary::of(replay.world())).map_err(io)
+    table.summary(&Summary::of(replay.world())).map_err(io)?;
+    if let (Some(d), None) = (replay.world().divergence(), replay.first_divergence()) {
+        eprintln!("the recorded run {d}; the replay reproduced it");
+    }
+    Ok(())
 }
