@@ -134,15 +134,36 @@ pub fn write_frame(out: &mut impl Write, kind: Kind, payload: &[u8]) -> io::Resu
     Ok((HEAD_LEN + payload.len() + CRC_LEN) as u64)
 }
 
-/// The hash frame of one tick, built on the stack: the per-tick write is one `write_all`.
-pub fn hash_frame(tick: u64, hash: u64) -> [u8; HASH_FRAME_LEN] {
-    let mut f = [0u8; HASH_FRAME_LEN];
-    f[..HEAD_LEN].copy_from_slice(&frame_head(Kind::Hash, 16));
-    f[HEAD_LEN..HEAD_LEN + 8].copy_from_slice(&tick.to_le_bytes());
-    f[HEAD_LEN + 8..HEAD_LEN + 16].copy_from_slice(&hash.to_le_bytes());
-    let crc = crc32fast::hash(&f[..HEAD_LEN + 16]);
-    f[HEAD_LEN + 16..].copy_from_slice(&crc.to_le_bytes());
-    f
+/// Builds the hash frame of a tick on the stack: the per-tick write is one `write_all` of
+/// [`HASH_FRAME_LEN`] bytes. The head is the same for every hash frame, so it and its share of
+/// the CRC are computed once.
+#[derive(Clone)]
+pub struct HashFrames {
+    head: [u8; HEAD_LEN],
+    crc: crc32fast::Hasher,
+}
+
+impl Default for HashFrames {
+    fn default() -> Self {
+        let head = frame_head(Kind::Hash, 16);
+        let mut crc = crc32fast::Hasher::new();
+        crc.update(&head);
+        HashFrames { head, crc }
+    }
+}
+
+impl HashFrames {
+    /// The whole frame recording `hash` at `tick`.
+    pub fn frame(&self, tick: u64, hash: u64) -> [u8; HASH_FRAME_LEN] {
+        let mut f = [0u8; HASH_FRAME_LEN];
+        f[..HEAD_LEN].copy_from_slice(&self.head);
+        f[HEAD_LEN..HEAD_LEN + 8].copy_from_slice(&tick.to_le_bytes());
+        f[HEAD_LEN + 8..HEAD_LEN + 16].copy_from_slice(&hash.to_le_bytes());
+        let mut crc = self.crc.clone();
+        crc.update(&f[HEAD_LEN..HEAD_LEN + 16]);
+        f[HEAD_LEN + 16..].copy_from_slice(&crc.finalize().to_le_bytes());
+        f
+    }
 }
 
 /// Facts about the build that wrote a recording; the ones that can change bits are compared.

@@ -1,11 +1,13 @@
 //! The recorder: a [`TickObserver`] that writes a recording as the loop runs.
 //!
-//! Per tick it writes one 27-byte hash frame built on the stack into a 64 KiB buffer (no
-//! allocation); keyframes stream the world's arrays through the CRC from a snapshot buffer that
-//! is reused; commands are formatted into a reused string. The buffer reaches the file by the
-//! [`FlushPolicy`]: by default at least every 50 ms of wall time, so a run killed by Ctrl-C or
-//! a crash loses at most the last 50 ms and the file still opens, as truncated. (The wall clock
-//! is read after a tick, by the observer; it never touches the simulation.)
+//! Per tick it hashes the world ([`state_hash`], which is most of the cost) and writes one
+//! 27-byte hash frame built on the stack into a 64 KiB buffer (no allocation); keyframes stream
+//! the world's arrays through the CRC from a snapshot buffer that is reused; commands are
+//! formatted into a reused string. The buffer reaches the file by the [`FlushPolicy`]: by
+//! default once at least 50 ms of wall time passed, so a run killed by Ctrl-C or a crash loses
+//! only its last moments and the file still opens, as truncated. The wall clock is read after
+//! a tick, by the observer, never inside one; and only every so many ticks when ticks are fast
+//! (see [`FlushPolicy::Interval`]).
 //!
 //! Starting and stopping from another observer (the window's record toggle): hold an
 //! `Option<Recorder<W>>`, forward the [`TickObserver`] calls to it while it is `Some`, create it
@@ -27,7 +29,10 @@ use super::format::{self, Build, Footer, Header, Kind};
 pub enum FlushPolicy {
     /// After every tick: nothing is lost to a kill, at one write call per tick.
     EveryTick,
-    /// After a tick, once at least this much wall time passed since the last flush.
+    /// After a tick, once at least this much wall time passed since the last flush. The clock is
+    /// read every tick while ticks take a millisecond or more (real time), and every 2, 4, ...
+    /// up to 1024 ticks while they are faster (a headless run), so the extra delay past the
+    /// interval stays within a few milliseconds of ticks.
     Interval(Duration),
     /// Only when the buffer fills and at [`Recorder::finish`] (benchmarks, in-memory writers).
     OnFinish,
@@ -83,6 +88,11 @@ pub struct Recorder<W: Write> {
     text: String,
     payload: Vec<u8>,
     last_flush: Instant,
+    /// Clock reads for the flush policy: the last one, ticks between reads, ticks until the next.
+    last_read: Instant,
+    read_every: u32,
+    until_read: u32,
+    hash_frames: format::HashFrames,
     last_hash: Option<u64>,
     last_keyframe: u64,
     stats: RecordStats,
@@ -123,6 +133,10 @@ impl<W: Write> Recorder<W> {
             text: String::with_capacity(256),
             payload: Vec::with_capacity(256),
             last_flush: Instant::now(),
+            last_read: Instant::now(),
+            read_every: 1,
+            until_read: 1,
+            hash_frames: format::HashFrames::default(),
             last_hash: None,
             last_keyframe: world.tick(),
             stats: RecordStats {
@@ -167,8 +181,8 @@ impl<W: Write> Recorder<W> {
 
     fn write_hash(&mut self, world: &World) -> io::Result<()> {
         let tick = world.tick();
-        self.out
-            .write_all(&format::hash_frame(tick, state_hash(world)))?;
+        let frame = self.hash_frames.frame(tick, state_hash(world));
+        self.out.write_all(&frame)?;
         self.stats.bytes += format::HASH_FRAME_LEN as u64;
         self.stats.hashes += 1;
         self.last_hash = Some(tick);
@@ -195,7 +209,7 @@ impl<W: Write> Recorder<W> {
         }
         let due = match self.options.flush {
             FlushPolicy::EveryTick => true,
-            FlushPolicy::Interval(d) => self.last_flush.elapsed() >= d,
+            FlushPolicy::Interval(d) => self.read_clock().is_some_and(|t| t - self.last_flush >= d),
             FlushPolicy::OnFinish => false,
         };
         if due {
@@ -203,6 +217,25 @@ impl<W: Write> Recorder<W> {
             self.last_flush = Instant::now();
         }
         Ok(())
+    }
+
+    /// The wall clock, when a read is due: every tick while ticks are slower than 1 ms
+    /// (`read_every` halves back to 1), every `read_every` ticks while they are faster
+    /// (doubling up to 1024), so fast runs read it about a thousand times a second at most.
+    fn read_clock(&mut self) -> Option<Instant> {
+        self.until_read -= 1;
+        if self.until_read > 0 {
+            return None;
+        }
+        let now = Instant::now();
+        let since = now - self.last_read;
+        if since < Duration::from_millis(1) {
+            self.read_every = (self.read_every * 2).min(1024);
+        } else if since > Duration::from_millis(4) {
+            self.read_every = (self.read_every / 2).max(1);
+        }
+        (self.last_read, self.until_read) = (now, self.read_every);
+        Some(now)
     }
 
     fn command(&mut self, stamped: &Stamped) -> io::Result<()> {
