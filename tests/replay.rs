@@ -8,7 +8,7 @@ use std::time::Duration;
 use replay_support::*;
 use volley::clock::VirtualClock;
 use volley::hash::state_hash;
-use volley::replay::{Mismatch, Recorder, Value};
+use volley::replay::{FlushPolicy, Mismatch, Recorder, Value};
 use volley::{Integrator, Scene, SimLoop, World, scene};
 
 /// Three bodies under gravity and linear drag, no contacts: semi-implicit Euler updates the
@@ -428,6 +428,49 @@ fn an_interrupted_recording_is_a_prefix_and_opens_truncated_after_its_last_tick(
     assert!(e.message.contains("ends before the header"), "{e}");
     let e = open(&interrupted[..keyframe_start + 9]).unwrap_err();
     assert!(e.message.contains("ends before the first keyframe"), "{e}");
+}
+
+/// A file other code can read while the recorder still holds it: what a crash would leave.
+#[derive(Clone, Default)]
+struct Shared(std::rc::Rc<std::cell::RefCell<Vec<u8>>>);
+
+impl std::io::Write for Shared {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        self.0.borrow_mut().extend_from_slice(b);
+        Ok(b.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+#[test]
+fn flushing_every_tick_leaves_a_readable_file_after_every_tick() {
+    let scene = free_flight();
+    for (flush, holds_every_tick) in [
+        (FlushPolicy::EveryTick, true),
+        (FlushPolicy::OnFinish, false),
+    ] {
+        let file = Shared::default();
+        let mut sim = SimLoop::new(World::new(&scene));
+        let opts = volley::replay::RecordOptions {
+            flush,
+            ..options(1, 10)
+        };
+        let mut recorder = Recorder::start(file.clone(), &sim.world, opts).unwrap();
+        for tick in 1..=25 {
+            sim.run_until(
+                tick,
+                &mut VirtualClock::Steady(scene.timestep),
+                &mut recorder,
+            )
+            .unwrap();
+            let crashed_now = open(&file.0.borrow()).unwrap();
+            // Without flushing, the writer holds only what `start` flushed: tick 0.
+            let expected = if holds_every_tick { tick } else { 0 };
+            assert_eq!(crashed_now.end_tick(), expected, "{flush:?}");
+        }
+    }
 }
 
 #[test]
