@@ -4,8 +4,11 @@
 //! Every expected number is derived in the test from the math of the case (growth factors of
 //! the linear test equation, closed forms, the clock's documented rule), never copied from a run.
 
+mod contact;
 mod orbit;
+mod precision;
 mod stiff;
+mod time;
 
 use std::path::Path;
 
