@@ -10,7 +10,7 @@
 //! | spring, rest length L > 0 | `W += k/m` (the radial stiffness; the tangential one, `k (1 - L/r)`, is smaller for `r > L/2`) | explicitly |
 //! | spring damping c | `K += c/m` | implicitly |
 //! | linear drag b | `K += b/m` (exact) | implicitly |
-//! | quadratic drag c | `K += 2 c v_max / m`: the Jacobian of `-c |v| v` is `-c (|v| I + v v^T/|v|)`, largest rate `2 c |v|`, with `v_max` the larger of the launch speed and the terminal speed in the uniform field | explicitly |
+//! | quadratic drag c | `K += c v_max / m`: at speed `|v|` the force `-c |v| v` is linear drag with `b = c |v|`, so the speed itself grows under a step exactly when that drag would (explicit Euler: `|v'| = |v| |1 - h c |v| / m|`); `v_max` is the larger of the launch speed and the terminal speed in the uniform field. (The Jacobian's rate `2 c |v|` governs how nearby paths separate, not whether the speed blows up.) | explicitly |
 //! | point mass mu | `W += mu / r_p^3`: the orbital frequency at periapsis `r_p` of the body's Kepler orbit (the radial eigenvalue `+2 mu/r^3` is a physical instability every method shares, not a numerical one) | explicitly |
 //!
 //! Gravity and constant forces shift the equilibrium and add nothing. For each integrator the
@@ -83,7 +83,7 @@ impl Stiffness {
             } else {
                 0.0
             };
-            s.k_nl += 2.0 * c * v0.length().max(terminal) / m;
+            s.k_nl += c * v0.length().max(terminal) / m;
         }
         if let Some(pm) = f.point_mass {
             let rp = periapsis(pm.mu, p0 - pm.center, v0);
