@@ -127,7 +127,7 @@ pub struct StudyPoint {
     pub evals_per_second: f64,
     /// Median wall time per tick (None without timing or when the run diverged).
     pub wall_per_tick: Option<Duration>,
-    /// Timed runs behind the median.
+    /// Timed samples behind the median (each sample is one or more back-to-back runs).
     pub repeats: u32,
     /// Completed or diverged.
     pub outcome: Outcome,
@@ -353,28 +353,40 @@ fn precheck_of(check: &stability::StabilityReport, integrator: Integrator) -> st
     )
 }
 
-/// Median wall time per tick over repeated runs with no observer, and the number of runs.
+/// Median wall time per tick over repeated samples, and the number of samples. A sample is
+/// `k` back-to-back runs with no observer, `k` chosen so one sample lasts at least a
+/// millisecond (a 27-tick run alone is too short for the clock to time).
 fn time_runs(
     scene: &Scene,
     ticks: u64,
     config: &StudyConfig,
 ) -> Result<(Duration, u32), StudyError> {
-    let mut samples = Vec::new();
-    let started = Instant::now();
-    while samples.len() < config.min_repeats.max(1) as usize
-        || (started.elapsed() < config.timing_budget && samples.len() < 25)
-    {
+    let once = || -> Result<Duration, StudyError> {
         let mut sim = SimLoop::new(World::new(scene));
         let mut clock = VirtualClock::Steady(scene.timestep);
         let t0 = Instant::now();
         let result = sim.run_until(ticks, &mut clock, &mut ());
         let elapsed = t0.elapsed();
-        if let Err(e) = result {
-            return Err(StudyError(format!(
+        result.map_err(|e| {
+            StudyError(format!(
                 "a timed run failed where the measured one did not: {e}"
-            )));
+            ))
+        })?;
+        Ok(elapsed)
+    };
+    let first = once()?.max(Duration::from_nanos(1));
+    let k = (Duration::from_millis(1).as_nanos() / first.as_nanos()).clamp(1, 10_000) as u32;
+    let mut samples = Vec::new();
+    let started = Instant::now();
+    while samples.len() < config.min_repeats.max(1) as usize
+        || (started.elapsed() < config.timing_budget && samples.len() < 25)
+    {
+        let mut total = Duration::ZERO;
+        for _ in 0..k {
+            total += once()?;
         }
-        samples.push(elapsed / ticks.min(u64::from(u32::MAX)) as u32);
+        let runs_ticks = u128::from(k) * u128::from(ticks);
+        samples.push(Duration::from_nanos((total.as_nanos() / runs_ticks) as u64));
     }
     samples.sort();
     Ok((samples[samples.len() / 2], samples.len() as u32))

@@ -151,6 +151,8 @@ pub fn run(args: &StudyArgs) -> Result<(), Failure> {
     let report = report.map_err(|e| fail(EXIT_INPUT, e))?;
     let markdown = study::output::markdown(&report);
     print!("{markdown}");
+    // The report goes out before the stderr line naming the files.
+    let _ = std::io::Write::flush(&mut std::io::stdout());
     let stem = scene.name.replace(['/', '\\'], "_");
     let dir = args
         .out

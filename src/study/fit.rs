@@ -26,7 +26,9 @@ impl std::fmt::Display for OrderFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             OrderFit::Fitted { order, points } => write!(f, "{order:.2} ({points} dts)"),
-            OrderFit::AtRoundingFloor => f.write_str("exact here (errors at rounding level)"),
+            OrderFit::AtRoundingFloor => f.write_str(
+                "exact here (every error below the rounding floor, 1e-10 of the extent)",
+            ),
             OrderFit::TooFewPoints => f.write_str("n/a (fewer than 2 usable dts)"),
         }
     }

@@ -100,6 +100,8 @@ fn panel<DB: DrawingBackend>(
         .configure_mesh()
         .x_desc(x_desc)
         .y_desc("largest position error (m)")
+        .x_labels(6)
+        .y_labels(10)
         .x_label_formatter(&|x| format!("{x:.0e}"))
         .y_label_formatter(&|y| format!("{y:.0e}"))
         .label_style(("sans-serif", 13))
@@ -127,7 +129,7 @@ fn panel<DB: DrawingBackend>(
         .label_font(("sans-serif", 13))
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
-        .position(SeriesLabelPosition::LowerLeft)
+        .position(SeriesLabelPosition::UpperRight)
         .draw()
         .map_err(e)?;
     Ok(())
