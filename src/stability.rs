@@ -425,9 +425,9 @@ impl StabilityReport {
             describe(&s, h),
         )];
         lines.push(format!(
-            "{} is outside its linear stability region at this step: amplitude x{} per step{}",
+            "{} is outside its linear stability region at this step: amplitude {} per step{}",
             v.integrator,
-            sig(v.growth),
+            growth_text(v.growth),
             limit_note(v.integrator),
         ));
         lines.push(format!("  fix: {}", self.fixes(v).join(", or ")));
@@ -524,6 +524,20 @@ fn describe_short(s: &Stiffness, h: f64) -> String {
         parts.push(format!("k h = {}", sig(s.k() * h)));
     }
     parts.join(", ")
+}
+
+/// A growth factor per step for people: `x25.7`, or `x(1 + 1.97e-3)` when it is close to 1 and
+/// three digits would round it to a misleading `x1.00`.
+pub fn growth_text(rho: f64) -> String {
+    if (rho - 1.0).abs() < 5e-3 {
+        format!(
+            "x(1 {} {:.2e})",
+            if rho >= 1.0 { "+" } else { "-" },
+            (rho - 1.0).abs()
+        )
+    } else {
+        format!("x{}", sig(rho))
+    }
 }
 
 /// Three significant digits.

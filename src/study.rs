@@ -325,9 +325,9 @@ pub fn precheck_lines(scene: &Scene, config: &StudyConfig) -> Vec<String> {
             .fold(1.0, f64::max);
         lines.push(format!(
             "pre-check: {integrator} is outside its linear stability region at dt = {} \
-             (amplitude up to x{} per step): expect those runs to grow without bound",
+             (amplitude up to {} per step): expect those runs to grow without bound",
             dts.join(", "),
-            output::sci(worst)
+            stability::growth_text(worst)
         ));
         if let Some(v) = largest.verdict(integrator) {
             lines.push(format!(

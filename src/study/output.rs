@@ -32,7 +32,10 @@ fn precheck(p: &StudyPoint) -> String {
     if p.precheck.stable {
         "stable".into()
     } else {
-        format!("unstable (x{}/step)", sci(p.precheck.rho))
+        format!(
+            "unstable ({}/step)",
+            crate::stability::growth_text(p.precheck.rho)
+        )
     }
 }
 
