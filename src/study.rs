@@ -256,11 +256,17 @@ pub fn run(
         at_dt.set_dt(dt).map_err(StudyError)?;
         let ticks = at_dt.ticks_until(config.until).max(1);
         let stride = ticks.div_ceil(config.max_samples).max(1);
-        tell(format!("reference at dt = {}", at_dt.dt()), &mut done);
+        tell(
+            format!("reference at dt = {}", output::sci(at_dt.dt())),
+            &mut done,
+        );
         let reference = reference::build(&at_dt, ticks, stride, finest)?;
         let check = stability::check_at(&at_dt, at_dt.dt(), at_dt.substeps, at_dt.integrator);
         for &integrator in &config.integrators {
-            tell(format!("{integrator} at dt = {}", at_dt.dt()), &mut done);
+            tell(
+                format!("{integrator} at dt = {}", output::sci(at_dt.dt())),
+                &mut done,
+            );
             let mut run_scene = at_dt.clone();
             run_scene.set_integrator(integrator).map_err(StudyError)?;
             let precheck = precheck_of(&check, integrator);
