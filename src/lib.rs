@@ -43,7 +43,9 @@ pub mod hash;
 pub mod integrate;
 pub mod scene;
 pub mod sim_loop;
+pub mod stability;
 pub mod step;
+pub mod study;
 pub mod table;
 pub mod world;
 

@@ -31,6 +31,8 @@ enum Cmd {
     Aim(cli::aim::AimArgs),
     /// List the bundled scenes.
     Scenes,
+    /// Sweep integrators and timesteps: error against cost, as a table, CSV and plot.
+    Study(cli::study::StudyArgs),
 }
 
 fn main() -> ExitCode {
@@ -42,6 +44,7 @@ fn main() -> ExitCode {
         Some(Cmd::Headless(args)) => cli::headless::run(&args),
         Some(Cmd::Aim(args)) => cli::aim::run(&args),
         Some(Cmd::Scenes) => cli::scenes::run(),
+        Some(Cmd::Study(args)) => cli::study::run(&args),
         None => cli::headless::default_run(),
     };
     match result {

@@ -3,6 +3,7 @@
 pub mod aim;
 pub mod headless;
 pub mod scenes;
+pub mod study;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
