@@ -44,7 +44,9 @@ pub mod integrate;
 pub mod replay;
 pub mod scene;
 pub mod sim_loop;
+pub mod stability;
 pub mod step;
+pub mod study;
 pub mod table;
 pub mod world;
 

@@ -31,6 +31,8 @@ enum Cmd {
     Aim(cli::aim::AimArgs),
     /// List the bundled scenes.
     Scenes,
+    /// Sweep integrators and timesteps: error against cost, as a table, CSV and plot.
+    Study(cli::study::StudyArgs),
     /// Run a scene headless and write a recording (commands, hashes, keyframes).
     Record(cli::record::RecordArgs),
     /// Play a recording back as a table, or verify it bit for bit (--verify).
@@ -46,6 +48,7 @@ fn main() -> ExitCode {
         Some(Cmd::Headless(args)) => cli::headless::run(&args),
         Some(Cmd::Aim(args)) => cli::aim::run(&args),
         Some(Cmd::Scenes) => cli::scenes::run(),
+        Some(Cmd::Study(args)) => cli::study::run(&args),
         Some(Cmd::Record(args)) => cli::record::run(&args),
         Some(Cmd::Replay(args)) => cli::replay::run(&args),
         None => cli::headless::default_run(),

@@ -155,6 +155,7 @@ pub fn run(args: &HeadlessArgs) -> Result<(), Failure> {
     let scene = load_scene(args)?;
     let ticks = run_length(args, &scene)?;
     let commands = load_commands(args.commands.as_ref())?;
+    super::study::print_stability_warnings(&volley::stability::check(&scene));
     let mut world = World::new(&scene);
     world.set_threads(args.threads);
     let mut sim = SimLoop::new(world);

@@ -5,6 +5,7 @@ pub mod headless;
 pub mod record;
 pub mod replay;
 pub mod scenes;
+pub mod study;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
