@@ -3,9 +3,9 @@
 //!
 //! A recording holds what decides a run and what checks it: the scene text verbatim, the
 //! timestep, substeps and integrator, the tick-stamped [`crate::Command`]s, the canonical state
-//! hash ([`crate::hash`]) after every tick (or every K), keyframes (full [`Snapshot`]s) every K
-//! ticks for seeking and for the field report, and a footer with the final tick and hash. The
-//! byte layout is in [`self::format`].
+//! hash ([`crate::hash`]) after every tick (or every K), keyframes (full [`Snapshot`]s, see
+//! [`keyframe`]) every K ticks for seeking and for the field report, and a footer with the final
+//! tick and hash. The byte layout is in [`self::format`].
 //!
 //! - [`Recorder`] writes one, as a [`crate::TickObserver`], so the window and headless runs
 //!   record through the same loop. It writes append-only with a CRC per record and flushes as
@@ -34,6 +34,7 @@
 
 pub mod diff;
 pub mod format;
+pub mod keyframe;
 mod play;
 mod reader;
 mod recorder;

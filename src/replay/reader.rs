@@ -260,7 +260,7 @@ impl<R: Read + Seek> Recording<R> {
         if crc32fast::hash(body).to_le_bytes() != crc {
             return Err(err("keyframe changed since the file was opened".into()));
         }
-        format::decode_keyframe(&body[HEAD_LEN..], &scene.forces, out)
+        super::keyframe::decode_keyframe(&body[HEAD_LEN..], &scene.forces, out)
             .map_err(|m| err(format!("keyframe record: {m}")))
     }
 

@@ -146,7 +146,8 @@ impl<W: Write> Recorder<W> {
                 ..RecordStats::default()
             },
         };
-        recorder.stats.bytes += format::encode_keyframe(&mut recorder.out, &recorder.snapshot)?;
+        recorder.stats.bytes +=
+            super::keyframe::encode_keyframe(&mut recorder.out, &recorder.snapshot)?;
         recorder.stats.keyframes = 1;
         recorder.write_hash(world)?;
         recorder.out.flush()?;
@@ -191,7 +192,7 @@ impl<W: Write> Recorder<W> {
 
     fn write_keyframe(&mut self, world: &World) -> io::Result<()> {
         world.snapshot_into(&mut self.snapshot);
-        self.stats.bytes += format::encode_keyframe(&mut self.out, &self.snapshot)?;
+        self.stats.bytes += super::keyframe::encode_keyframe(&mut self.out, &self.snapshot)?;
         self.stats.keyframes += 1;
         self.last_keyframe = world.tick();
         Ok(())

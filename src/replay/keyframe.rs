@@ -1,0 +1,207 @@
+//! The keyframe record: a [`Snapshot`] of the world, streamed to the file without allocating.
+
+use std::io::{self, Write};
+
+use glam::DVec3;
+
+use crate::forces::{ForceKind, Forces};
+use crate::integrate::Integrator;
+use crate::scene::Launcher;
+use crate::world::{BodyId, Snapshot, SplitMix64, Vec3s};
+
+use super::format::{CRC_LEN, HEAD_LEN, Kind, Reader, Words, frame_head};
+
+/// Bytes of a keyframe before its body arrays.
+pub const KEYFRAME_FIXED: usize = 3 * 8 + 3 + 8 * 8 + 8 + 8;
+
+/// Bytes per body in a keyframe: id and 9 floats, plus 3 with a carried force.
+fn per_body(carry: bool) -> usize {
+    if carry { 13 * 8 } else { 10 * 8 }
+}
+
+/// Payload length of a keyframe of `n` bodies, if it fits a frame.
+pub fn keyframe_len(n: usize, carry: bool) -> Option<u32> {
+    n.checked_mul(per_body(carry))
+        .and_then(|b| b.checked_add(KEYFRAME_FIXED))
+        .and_then(|l| u32::try_from(l).ok())
+}
+
+/// Writes a keyframe frame, streaming the body arrays through the CRC: no allocation.
+///
+/// Payload: `tick next_id rng:u64  integrator forces_mask has_carry:u8  launcher (position xyz,
+/// speed, elevation, azimuth, mass, radius):8 f64  force_evals n:u64`, then arrays of n:
+/// ids, p.x p.y p.z, mV.x mV.y mV.z, mass, radius, energy_cap (and carry x y z if has_carry).
+pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
+    let carry = !s.carry.is_empty();
+    let n = s.ids.len();
+    let len = keyframe_len(n, carry).ok_or_else(|| {
+        io::Error::other(format!(
+            "a keyframe of {n} bodies is too large for format v1"
+        ))
+    })?;
+    let mut w = CrcWrite::new(out);
+    w.put(&frame_head(Kind::Keyframe, len))?;
+    let mut fixed = Words::default();
+    let integrator = Integrator::ALL.iter().position(|i| *i == s.integrator);
+    let mask = ForceKind::ALL
+        .iter()
+        .enumerate()
+        .filter(|(_, k)| s.forces.has(**k))
+        .fold(0u8, |m, (_, k)| m | (1 << (*k as u8)));
+    let l = &s.launcher;
+    fixed.u64(s.tick).u64(s.next_id).u64(s.rng.0);
+    fixed
+        .u8(integrator.unwrap_or(0) as u8)
+        .u8(mask)
+        .u8(carry as u8);
+    for x in [
+        l.position.x,
+        l.position.y,
+        l.position.z,
+        l.speed,
+        l.elevation_deg,
+    ] {
+        fixed.f64(x);
+    }
+    fixed.f64(l.azimuth_deg).f64(l.mass).f64(l.radius);
+    fixed.u64(s.force_evals).u64(n as u64);
+    w.put(fixed.bytes())?;
+    w.words(s.ids.iter().map(|id| id.0))?;
+    let arrays: [&[f64]; 12] = [
+        &s.p.x,
+        &s.p.y,
+        &s.p.z,
+        &s.mv.x,
+        &s.mv.y,
+        &s.mv.z,
+        &s.mass,
+        &s.radius,
+        &s.energy_cap,
+        &s.carry.x,
+        &s.carry.y,
+        &s.carry.z,
+    ];
+    for a in &arrays[..if carry { 12 } else { 9 }] {
+        w.words(a.iter().map(|x| x.to_bits()))?;
+    }
+    w.finish()?;
+    Ok((HEAD_LEN + len as usize + CRC_LEN) as u64)
+}
+
+/// Reads a keyframe's payload into `s` (reusing its buffers); `declared` are the scene's force
+/// terms, whose values the active ones take. Checks the structure (sizes, tags, increasing ids,
+/// active terms declared); [`crate::World::restore`] checks the rest against the scene.
+pub fn decode_keyframe(payload: &[u8], declared: &Forces, s: &mut Snapshot) -> Result<(), String> {
+    let mut r = Reader::new(payload);
+    (s.tick, s.next_id, s.rng) = (r.u64()?, r.u64()?, SplitMix64(r.u64()?));
+    let (integrator, mask, carry) = (r.u8()?, r.u8()?, r.u8()?);
+    s.integrator = *Integrator::ALL
+        .get(usize::from(integrator))
+        .ok_or_else(|| format!("unknown integrator tag {integrator}"))?;
+    if mask >> ForceKind::ALL.len() != 0 || carry > 1 {
+        return Err(format!(
+            "force mask {mask:#x} or carry flag {carry} out of range"
+        ));
+    }
+    let active = |k: ForceKind| mask & (1 << (k as u8)) != 0;
+    if let Some(k) = ForceKind::ALL
+        .into_iter()
+        .find(|&k| active(k) && !declared.has(k))
+    {
+        return Err(format!(
+            "force term {} is active but not declared",
+            k.name()
+        ));
+    }
+    s.forces = declared.filtered(active);
+    let mut f = [0.0; 8];
+    for x in &mut f {
+        *x = r.f64()?;
+    }
+    s.launcher = Launcher {
+        position: DVec3::new(f[0], f[1], f[2]),
+        speed: f[3],
+        elevation_deg: f[4],
+        azimuth_deg: f[5],
+        mass: f[6],
+        radius: f[7],
+    };
+    s.force_evals = r.u64()?;
+    let n = r.u64()?;
+    let expected = usize::try_from(n)
+        .ok()
+        .and_then(|n| keyframe_len(n, carry == 1))
+        .filter(|&l| l as usize == payload.len())
+        .ok_or_else(|| format!("{n} bodies do not fit a {} byte keyframe", payload.len()))?;
+    debug_assert_eq!(expected as usize, payload.len());
+    let n = n as usize;
+    s.ids.clear();
+    s.ids.extend(r.take_u64s(n)?.map(BodyId));
+    if !s.ids.windows(2).all(|w| w[0] < w[1]) {
+        return Err("body ids are not increasing".into());
+    }
+    for v in [&mut s.p, &mut s.mv] {
+        read_vec3s(&mut r, n, v)?;
+    }
+    for a in [&mut s.mass, &mut s.radius, &mut s.energy_cap] {
+        a.clear();
+        a.extend(r.take_u64s(n)?.map(f64::from_bits));
+    }
+    if carry == 1 {
+        read_vec3s(&mut r, n, &mut s.carry)?;
+    } else {
+        read_vec3s(&mut r, 0, &mut s.carry)?;
+    }
+    r.end()
+}
+
+fn read_vec3s(r: &mut Reader, n: usize, v: &mut Vec3s) -> Result<(), String> {
+    for c in [&mut v.x, &mut v.y, &mut v.z] {
+        c.clear();
+        c.extend(r.take_u64s(n)?.map(f64::from_bits));
+    }
+    Ok(())
+}
+
+/// A writer that feeds every byte through a CRC-32 and appends it at the end.
+struct CrcWrite<'a, W: Write> {
+    out: &'a mut W,
+    crc: crc32fast::Hasher,
+    buf: [u8; 4096],
+}
+
+impl<'a, W: Write> CrcWrite<'a, W> {
+    fn new(out: &'a mut W) -> Self {
+        CrcWrite {
+            out,
+            crc: crc32fast::Hasher::new(),
+            buf: [0; 4096],
+        }
+    }
+
+    fn put(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.crc.update(bytes);
+        self.out.write_all(bytes)
+    }
+
+    /// Writes 64-bit words little-endian, 512 at a time through a stack buffer.
+    fn words(&mut self, words: impl Iterator<Item = u64>) -> io::Result<()> {
+        let mut at = 0;
+        for w in words {
+            self.buf[at..at + 8].copy_from_slice(&w.to_le_bytes());
+            at += 8;
+            if at == self.buf.len() {
+                self.crc.update(&self.buf);
+                self.out.write_all(&self.buf)?;
+                at = 0;
+            }
+        }
+        self.crc.update(&self.buf[..at]);
+        self.out.write_all(&self.buf[..at])
+    }
+
+    fn finish(self) -> io::Result<()> {
+        let crc = self.crc.finalize();
+        self.out.write_all(&crc.to_le_bytes())
+    }
+}
