@@ -385,12 +385,14 @@ impl<R: Read + Seek> Replay<R> {
     }
 
     /// At the recording's last tick: a waiting report completes without a keyframe, and a
-    /// recorded divergence that the replay did not reproduce is a mismatch.
+    /// recorded divergence that the replay did not reproduce is a mismatch (unless the replay
+    /// started at that tick, from the keyframe of the diverged state, and so stepped nothing).
     fn at_end(&mut self) {
         let tick = self.sim.world.tick();
         let recorded_end = self.recording.footer().and_then(|f| f.diverged);
         if let Some(d) = recorded_end
             && self.sim.world.divergence().is_none()
+            && self.started_at < tick
         {
             self.progress.part(tick, Mismatch::RecordingDiverged(d));
         }
