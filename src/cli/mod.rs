@@ -21,7 +21,6 @@ pub struct Failure {
 }
 
 /// Exit code for a replay that failed verification.
-#[allow(dead_code)]
 pub const EXIT_MISMATCH: u8 = 1;
 /// Exit code for bad input: arguments, scene, command script, recording.
 pub const EXIT_INPUT: u8 = 2;
