@@ -15,6 +15,13 @@ use crate::exact::{Arc, aim};
 use crate::forces::{ForceKind, Forces, PointMass, Spring};
 use crate::integrate::Integrator;
 
+/// Most integrator steps per tick a scene may ask for: beyond this a stiff scene wants implicit
+/// Euler, and a typo should not make a run take forever.
+pub const MAX_SUBSTEPS: u32 = 10_000;
+/// Most bodies a `volley` may spawn (about 1 GB of state): a typo should be an error, not an
+/// allocation failure.
+pub const MAX_VOLLEY: u32 = 10_000_000;
+
 /// A scene after parsing and validation; everything a [`crate::World`] is built from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
@@ -72,8 +79,8 @@ impl Scene {
 
     /// Overrides the substeps per tick (at least 1).
     pub fn set_substeps(&mut self, substeps: u32) -> Result<(), String> {
-        if substeps == 0 {
-            return Err("substeps: expected at least 1".into());
+        if !(1..=MAX_SUBSTEPS).contains(&substeps) {
+            return Err(format!("substeps: expected 1 to {MAX_SUBSTEPS}, got {substeps}"));
         }
         self.substeps = substeps;
         Ok(())
@@ -437,8 +444,11 @@ fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Inva
     let start_time = finite("start_time", raw.start_time)?;
     let duration = non_negative("duration", raw.duration)?;
     let integrator = raw.integrator;
-    if raw.substeps == 0 {
-        return Err(("substeps".into(), "expected at least 1".into()));
+    if !(1..=MAX_SUBSTEPS).contains(&raw.substeps) {
+        return Err((
+            "substeps".into(),
+            format!("expected 1 to {MAX_SUBSTEPS}, got {}", raw.substeps),
+        ));
     }
     let forces = validate_forces(&raw.forces)?;
     check_integrator(integrator, &forces).map_err(|m| ("integrator".to_string(), m))?;
@@ -471,6 +481,12 @@ fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Inva
         None => default_launcher(bodies.first()),
     };
     if let Some(v) = raw.volley {
+        if v.count > MAX_VOLLEY {
+            return Err((
+                "volley.count".into(),
+                format!("expected at most {MAX_VOLLEY} bodies, got {}", v.count),
+            ));
+        }
         non_negative("volley.speed_spread", v.speed_spread)?;
         non_negative("volley.angle_spread_deg", v.angle_spread_deg)?;
     }
