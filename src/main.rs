@@ -31,6 +31,8 @@ enum Cmd {
     Aim(cli::aim::AimArgs),
     /// List the bundled scenes.
     Scenes,
+    /// Open the sandbox window (what `volley` alone does, on the seed scene).
+    Window(cli::window::WindowArgs),
 }
 
 fn main() -> ExitCode {
@@ -42,7 +44,8 @@ fn main() -> ExitCode {
         Some(Cmd::Headless(args)) => cli::headless::run(&args),
         Some(Cmd::Aim(args)) => cli::aim::run(&args),
         Some(Cmd::Scenes) => cli::scenes::run(),
-        None => cli::headless::default_run(),
+        Some(Cmd::Window(args)) => cli::window::run(&args),
+        None => cli::window::default_run(),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

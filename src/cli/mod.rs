@@ -1,8 +1,10 @@
 //! Subcommand implementations of the `volley` binary, one file each, plus what they share.
 
 pub mod aim;
+pub mod frames;
 pub mod headless;
 pub mod scenes;
+pub mod window;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
