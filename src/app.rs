@@ -8,6 +8,8 @@
 //! surface are created on `resumed`, as winit requires. Without vsync, frames are capped at
 //! [`MAX_FPS`] so a software adapter does not spin a core drawing frames nobody sees.
 
+mod control;
+mod frame;
 pub mod input;
 pub mod panel;
 pub mod session;
@@ -19,15 +21,15 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use winit::application::ApplicationHandler;
-use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event::{MouseButton, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::window::{Window, WindowId};
 
 use crate::clock::{FrameSource, RealClock, VirtualClock};
-use crate::command::Command;
 use crate::integrate::Integrator;
-use crate::render::{DrawOptions, GpuError, Image, OffscreenTarget, OrbitCamera, View, Viewport};
+use crate::render::{GpuError, OrbitCamera, Viewport};
 use crate::scene::Scene;
+use frame::viewport_of;
 pub use input::Action;
 use panel::{FrameStats, PanelState};
 pub use session::Session;
@@ -260,106 +262,6 @@ impl App {
         Ok(())
     }
 
-    fn apply(&mut self, action: Action) {
-        let s = &mut self.session;
-        match action {
-            Action::TogglePause => s.set_paused(!s.is_paused()),
-            Action::Step => s.single_step(),
-            Action::SetTimeScale(x) => s.set_time_scale(x),
-            Action::ScaleTime(f) => s.set_time_scale((s.time_scale() * f).clamp(1e-3, 100.0)),
-            Action::SetDt(dt) => self.set_dt(dt),
-            Action::ScaleDt(f) => {
-                let dt = s.scene().dt() * f;
-                self.set_dt(dt);
-            }
-            Action::SetIntegrator(i) => s.push(Command::SetIntegrator(i)),
-            Action::Launch {
-                speed,
-                elevation_deg,
-                azimuth_deg,
-            } => s.push(Command::SetLaunch {
-                speed,
-                elevation_deg,
-                azimuth_deg,
-                position: None,
-            }),
-            Action::NudgeLaunch(ds, de, da) => {
-                let p = &mut self.panel;
-                p.speed = (p.speed + ds).max(0.0);
-                p.elevation_deg = (p.elevation_deg + de).clamp(-90.0, 90.0);
-                p.azimuth_deg += da;
-                s.push(Command::SetLaunch {
-                    speed: Some(p.speed),
-                    elevation_deg: Some(p.elevation_deg),
-                    azimuth_deg: Some(p.azimuth_deg),
-                    position: None,
-                });
-            }
-            Action::Fire => s.push(Command::Fire),
-            Action::Reset => s.reset(),
-            Action::PickScene(path) => self.load_scene(&path, false),
-            Action::SetCompare(list) => s.set_compare(list),
-            Action::ToggleCompare => {
-                let list = if s.is_comparing() {
-                    Vec::new()
-                } else {
-                    self.panel.compare_pick.clone()
-                };
-                s.set_compare(list);
-            }
-            Action::ToggleTrails => self.toggles.trails = !self.toggles.trails,
-            Action::ToggleGhosts => self.toggles.ghosts = !self.toggles.ghosts,
-            Action::TogglePanel => self.toggles.panel = !self.toggles.panel,
-            Action::FrameScene => self.needs_framing = true,
-            Action::Screenshot => {
-                let tick = s.world().tick();
-                self.screenshot = Some(PathBuf::from(format!("volley-tick{tick}.png")));
-            }
-            Action::Quit => self.quit = true,
-        }
-    }
-
-    fn set_dt(&mut self, dt: f64) {
-        match self.session.set_dt(dt) {
-            Ok(()) => self.panel.sync(&self.session),
-            Err(e) => self.session.last_error = Some(format!("dt: {e}")),
-        }
-    }
-
-    fn on_pointer(&mut self, event: &WindowEvent, over_ui: bool) {
-        match *event {
-            WindowEvent::ModifiersChanged(m) => self.pointer.shift = m.state().shift_key(),
-            WindowEvent::MouseInput { state, button, .. } => {
-                self.pointer.dragging = match state {
-                    ElementState::Pressed if !over_ui => Some(button),
-                    _ => None,
-                };
-            }
-            WindowEvent::CursorMoved { position, .. } => {
-                let now = (position.x, position.y);
-                if let (Some(button), Some(last)) = (self.pointer.dragging, self.pointer.position) {
-                    let (dx, dy) = (now.0 - last.0, now.1 - last.1);
-                    let orbit = button == MouseButton::Left && !self.pointer.shift;
-                    if orbit {
-                        self.camera.orbit(dx, dy);
-                    } else {
-                        let h = f64::from(self.viewport.height.max(1.0));
-                        self.camera.pan(dx, dy, h);
-                    }
-                }
-                self.pointer.position = Some(now);
-            }
-            WindowEvent::MouseWheel { delta, .. } if !over_ui => {
-                let steps = match delta {
-                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
-                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
-                };
-                self.camera.zoom(steps);
-            }
-            _ => {}
-        }
-    }
-
     /// Reloads the scene if its file was saved and has settled.
     fn check_reload(&mut self, now: Instant) {
         let changed = self.watch.as_mut().is_some_and(|w| w.poll(now));
@@ -437,125 +339,6 @@ impl App {
         self.update_stats(start, &window);
     }
 
-    /// Draws the frame into the next surface texture and presents it (skipped while the
-    /// surface has nothing to give: minimised, occluded, rebuilt).
-    fn present(&mut self, primitives: &[egui::ClippedPrimitive], ppp: f32) {
-        let Some(gfx) = self.gfx.as_mut() else {
-            return;
-        };
-        let size = gfx.size();
-        let Some(frame) = gfx.acquire() else {
-            return;
-        };
-        let screen = egui_wgpu::ScreenDescriptor {
-            size_in_pixels: [size.0, size.1],
-            pixels_per_point: ppp,
-        };
-        let ui = FrameUi {
-            primitives,
-            screen: &screen,
-        };
-        let target = frame.texture.create_view(&Default::default());
-        self.draw(&target, &ui);
-        if let Some(gfx) = self.gfx.as_mut() {
-            gfx.gpu.queue.present(frame);
-            gfx.refresh();
-        }
-        self.stats.frames += 1;
-        self.after_present(&ui);
-    }
-
-    /// Draws the scene and the panel into `target` (the surface, or a capture of it).
-    fn draw(&mut self, target: &wgpu::TextureView, ui: &FrameUi<'_>) {
-        let Some(gfx) = self.gfx.as_mut() else {
-            return;
-        };
-        let lanes = self.session.draw_lanes();
-        let bounds = self.session.bounds();
-        let options = DrawOptions {
-            origin: bounds.center(),
-            scale: bounds.radius(),
-            trails: self.toggles.trails,
-            ghosts: self.toggles.ghosts,
-        };
-        let view = View {
-            camera: self.camera,
-            viewport: self.viewport,
-            target_size: gfx.size(),
-        };
-        gfx.renderer.prepare(&gfx.gpu, &lanes, &view, &options);
-        let device = &gfx.gpu.device;
-        let mut encoder = device.create_command_encoder(&Default::default());
-        gfx.renderer.encode(&mut encoder, target);
-        let extra = gfx.egui.update_buffers(
-            device,
-            &gfx.gpu.queue,
-            &mut encoder,
-            ui.primitives,
-            ui.screen,
-        );
-        {
-            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("panel"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: target,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            gfx.egui
-                .render(&mut pass.forget_lifetime(), ui.primitives, ui.screen);
-        }
-        gfx.gpu
-            .queue
-            .submit(extra.into_iter().chain([encoder.finish()]));
-    }
-
-    /// Screenshots and the frame limit, after a frame was presented.
-    fn after_present(&mut self, ui: &FrameUi<'_>) {
-        let done = self
-            .options
-            .exit_after_frames
-            .is_some_and(|n| self.stats.frames >= n);
-        let path = match (self.screenshot.take(), done) {
-            (Some(p), _) => Some(p),
-            (None, true) => self.options.screenshot.clone(),
-            (None, false) => None,
-        };
-        if let Some(path) = path
-            && let Err(e) = self.capture(&path, ui)
-        {
-            self.outcome = Err(AppError::Io(e));
-            self.quit = true;
-        }
-        if done {
-            self.quit = true;
-        }
-    }
-
-    /// Draws the frame again into an offscreen texture of the surface's size and format, through
-    /// the same [`App::draw`], and writes it as a PNG.
-    fn capture(&mut self, path: &Path, ui: &FrameUi<'_>) -> Result<(), String> {
-        let Some(gfx) = self.gfx.as_ref() else {
-            return Ok(());
-        };
-        let target = OffscreenTarget::new(&gfx.gpu, gfx.size(), gfx.format());
-        self.draw(target.view(), ui);
-        let Some(gfx) = self.gfx.as_ref() else {
-            return Ok(());
-        };
-        let image: Image = target.read(&gfx.gpu).map_err(|e| e.to_string())?;
-        image.save_png(path).map_err(|e| e.to_string())
-    }
-
     fn update_stats(&mut self, start: Instant, window: &Window) {
         let blend = |old: f64, new: f64| {
             if old == 0.0 {
@@ -575,29 +358,6 @@ impl App {
 
     fn visible(&self) -> bool {
         self.gfx.as_ref().is_some_and(WindowGpu::is_drawable)
-    }
-}
-
-/// The panel's share of a frame, for drawing it (again, for a capture).
-struct FrameUi<'a> {
-    primitives: &'a [egui::ClippedPrimitive],
-    screen: &'a egui_wgpu::ScreenDescriptor,
-}
-
-/// The 3D viewport in physical pixels: egui's remaining rectangle (points) times the scale,
-/// clamped to the surface.
-fn viewport_of(rest: egui::Rect, ppp: f32, size: (u32, u32)) -> Viewport {
-    let (w, h) = (size.0 as f32, size.1 as f32);
-    if !rest.is_positive() {
-        return Viewport::full(size.0, size.1);
-    }
-    let x = (rest.min.x * ppp).clamp(0.0, w).round();
-    let y = (rest.min.y * ppp).clamp(0.0, h).round();
-    Viewport {
-        x,
-        y,
-        width: ((rest.max.x * ppp).clamp(0.0, w).round() - x).max(0.0),
-        height: ((rest.max.y * ppp).clamp(0.0, h).round() - y).max(0.0),
     }
 }
 
