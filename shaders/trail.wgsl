@@ -9,6 +9,8 @@ struct Trail {
     len: u32,
     stride: u32,
     alpha: f32,
+    // Segments drawn per trail (fewer when many bodies share the budget); the fade spans them.
+    segments: u32,
 };
 
 @group(1) @binding(0) var<uniform> trail: Trail;
@@ -39,7 +41,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) slot: u32) -
         p = mix(sample_at(slot, 1u), p, trail.alpha);
     }
     out.clip = globals.proj * globals.view * vec4(p, 1.0);
-    let fade = 1.0 - f32(age) / f32(trail.len);
+    let fade = 1.0 - f32(age) / f32(trail.segments + 1u);
     let c = decode(trail.colour);
     out.colour = vec4(c.rgb, c.a * fade * fade);
     return out;

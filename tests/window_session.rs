@@ -130,3 +130,16 @@ fn saving_the_scene_file_is_noticed() {
         "another file in the folder is not the scene"
     );
 }
+
+#[test]
+fn every_shortcut_the_panel_lists_is_in_the_readme() {
+    let readme = std::fs::read_to_string(support::crate_path("README.md")).unwrap();
+    let rows: Vec<String> = readme.lines().map(|l| l.replace('`', "")).collect();
+    let listed = volley::app::input::SHORTCUTS
+        .iter()
+        .chain(volley::app::input::MOUSE.iter());
+    for (keys, what) in listed {
+        let row = format!("| {keys} | {what} |");
+        assert!(rows.contains(&row), "README lacks the row `{row}`");
+    }
+}

@@ -89,7 +89,9 @@ impl App {
                     let (dx, dy) = (now.0 - last.0, now.1 - last.1);
                     let orbit = button == MouseButton::Left && !self.pointer.shift;
                     if orbit {
-                        self.camera.orbit(dx, dy);
+                        // Degrees per logical pixel, the same feel at any HiDPI scale.
+                        let scale = self.stats.scale.max(1.0);
+                        self.camera.orbit(dx / scale, dy / scale);
                     } else {
                         let h = f64::from(self.viewport.height.max(1.0));
                         self.camera.pan(dx, dy, h);

@@ -170,7 +170,12 @@ fn clock(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<A
                 lane.sim.clock.dropped().as_secs_f64()
             ),
         );
-        row("integrator", world.integrator().to_string());
+        let integrator = if session.is_comparing() {
+            format!("{} compared (legend below)", session.lanes().len())
+        } else {
+            world.integrator().to_string()
+        };
+        row("integrator", integrator);
         row("bodies", world.bodies().len().to_string());
     });
     ui.horizontal(|ui| {

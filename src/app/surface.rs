@@ -80,8 +80,10 @@ impl WindowGpu {
             self.configured = false;
             return;
         }
-        self.config.width = width;
-        self.config.height = height;
+        // A window larger than the device's largest texture draws at that size, stretched.
+        let max = self.gpu.device.limits().max_texture_dimension_2d;
+        self.config.width = width.min(max);
+        self.config.height = height.min(max);
         self.surface.configure(&self.gpu.device, &self.config);
         self.configured = true;
     }

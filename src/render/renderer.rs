@@ -14,7 +14,7 @@ use crate::render::camera::{OrbitCamera, Viewport};
 use crate::render::draw::{DrawList, DrawOptions, Lane, Rgba};
 use crate::render::gpu::Gpu;
 use crate::render::pipelines::{DEPTH_FORMAT, Pipelines};
-use crate::render::trails::{TRAIL_SAMPLES, TrailRing};
+use crate::render::trails::{TRAIL_SAMPLES, TrailRing, segments_per_trail};
 
 /// Background colour (linear).
 const CLEAR: wgpu::Color = wgpu::Color {
@@ -57,6 +57,8 @@ struct TrailUniform {
     len: u32,
     stride: u32,
     alpha: f32,
+    segments: u32,
+    pad: [u32; 3],
 }
 
 /// A GPU buffer that is rewritten every frame and reallocated only to grow.
@@ -138,6 +140,7 @@ pub struct Renderer {
     viewport: Viewport,
     list: DrawList,
     counts: Vec<u32>,
+    segments: u32,
 }
 
 impl Renderer {
@@ -174,6 +177,7 @@ impl Renderer {
             viewport: Viewport::full(1, 1),
             list: DrawList::default(),
             counts: Vec::new(),
+            segments: 0,
         }
     }
 
@@ -201,18 +205,22 @@ impl Renderer {
         gpu.queue
             .write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
         self.trails.truncate(lanes.len());
+        let slots = |lane: &Lane<'_>| {
+            if options.trails {
+                lane.history.trails.used() as u32
+            } else {
+                0
+            }
+        };
+        let total: u32 = lanes.iter().map(slots).sum();
+        self.segments = segments_per_trail(total as usize);
         for (k, lane) in lanes.iter().enumerate() {
             if k == self.trails.len() {
                 let t = self.new_trail(gpu);
                 self.trails.push(t);
             }
-            let slots = if options.trails {
-                lane.history.trails.used() as u32
-            } else {
-                0
-            };
             self.upload_trail(gpu, k, &lane.history.trails, lane.alpha, lane.colour);
-            self.trails[k].slots = slots;
+            self.trails[k].slots = slots(lane);
         }
         self.ensure_depth(gpu, view.target_size);
         self.viewport = view.viewport;
@@ -296,6 +304,8 @@ impl Renderer {
             len: TRAIL_SAMPLES as u32,
             stride: stride as u32,
             alpha: alpha as f32,
+            segments: self.segments,
+            pad: [0; 3],
         };
         gpu.queue
             .write_buffer(&t.uniform, 0, bytemuck::bytes_of(&uniform));
@@ -371,7 +381,7 @@ impl Renderer {
         pass.set_pipeline(&p.trails);
         for t in self.trails.iter().filter(|t| t.slots > 0) {
             pass.set_bind_group(1, &t.group, &[]);
-            pass.draw(0..2 * (TRAIL_SAMPLES as u32 - 1), 0..t.slots);
+            pass.draw(0..2 * self.segments, 0..t.slots);
         }
         draw_vertices(&mut pass, &p.lines, &self.lines);
         draw_instanced(&mut pass, &p.translucent_spheres, &self.translucent);

@@ -20,6 +20,18 @@ use crate::world::{BodyId, World};
 pub const TRAIL_SAMPLES: usize = 128;
 /// Most bodies that get a trail (the first ones in id order).
 pub const TRAIL_BODIES: usize = 2048;
+/// Most trail segments drawn per frame, over all bodies and lanes: a few bodies get their whole
+/// trail, a crowd gets shorter ones (at least [`MIN_TRAIL_SEGMENTS`]). Lines are the software
+/// rasteriser's slowest primitive: 1000 full trails cost 16 ms a frame on lavapipe.
+pub const TRAIL_SEGMENT_BUDGET: usize = 65_536;
+/// Shortest trail drawn (segments) however many bodies share the budget.
+pub const MIN_TRAIL_SEGMENTS: usize = 8;
+
+/// Segments to draw per trail when `trails` trails share the budget.
+pub fn segments_per_trail(trails: usize) -> u32 {
+    let fair = TRAIL_SEGMENT_BUDGET / trails.max(1);
+    fair.clamp(MIN_TRAIL_SEGMENTS, TRAIL_SAMPLES - 1) as u32
+}
 /// Smallest row width allocated (slots); rows grow in powers of two from here.
 const MIN_STRIDE: usize = 16;
 
