@@ -11,7 +11,7 @@ use volley::render::{
     DrawOptions, Image, Lane, OFFSCREEN_FORMAT, OffscreenTarget, OrbitCamera, Renderer,
     SceneBounds, TickHistory, View, Viewport, integrator_colour,
 };
-use volley::{SimLoop, World, scene};
+use volley::{Integrator, SimLoop, World, scene};
 
 /// Draws `world` (stepped with `history` watching) from `camera` into a `size` image.
 fn draw(
@@ -195,4 +195,102 @@ fn a_body_at_a_known_world_position_lands_on_the_expected_pixel() {
         (projected - expected).abs().max_element() < 1e-3,
         "{projected}"
     );
+}
+
+#[test]
+fn frames_reuse_their_buffers_and_draw_every_lane_in_one_instance_list() {
+    let test = "frames_reuse_their_buffers_and_draw_every_lane_in_one_instance_list";
+    let Some(gpu) = support::gpu(test) else {
+        return;
+    };
+    let text = "Scene(dt: 0.0166666667, integrator: SemiImplicitEuler,
+        forces: [Gravity((0, 0, -9.81))], ground: (height: 0, restitution: 0.5),
+        launcher: (position: (0, 0, 1), speed: 20, elevation_deg: 60, azimuth_deg: 0),
+        volley: (count: 500, speed_spread: 2, angle_spread_deg: 10), seed: 3)";
+    let scene = scene::parse(text, "crowd.ron", "crowd").unwrap();
+    let bounds = SceneBounds::of_scene(&scene);
+    let mut sims: Vec<(SimLoop, TickHistory)> = [Integrator::SemiImplicitEuler, Integrator::Rk4]
+        .into_iter()
+        .map(|i| {
+            let mut s = scene.clone();
+            s.integrator = i;
+            let sim = SimLoop::new(World::new(&s));
+            let history = TickHistory::new(&sim.world, bounds.center());
+            (sim, history)
+        })
+        .collect();
+    let mut renderer = Renderer::new(&gpu, OFFSCREEN_FORMAT);
+    let target = OffscreenTarget::new(&gpu, (64, 36), OFFSCREEN_FORMAT);
+    let view = View {
+        camera: OrbitCamera::framing(&bounds, 64.0 / 36.0),
+        viewport: Viewport::full(64, 36),
+        target_size: (64, 36),
+    };
+    let options = DrawOptions {
+        origin: bounds.center(),
+        scale: bounds.radius(),
+        trails: true,
+        ghosts: true,
+    };
+    let mut allocations = Vec::new();
+    for tick in 1..=20 {
+        for (sim, history) in &mut sims {
+            sim.run_until(tick, &mut VirtualClock::Steady(scene.timestep), history)
+                .unwrap();
+        }
+        let lanes: Vec<Lane<'_>> = sims
+            .iter()
+            .map(|(sim, history)| Lane {
+                world: &sim.world,
+                history,
+                alpha: 1.0,
+                colour: integrator_colour(sim.world.integrator()),
+            })
+            .collect();
+        renderer.render(&gpu, target.view(), &lanes, &view, &options);
+        allocations.push(renderer.buffer_allocations());
+        // Both lanes' 500 bodies and the launcher: one list, one instanced draw.
+        assert_eq!(renderer.draw_list().solid.len(), 2 * 500 + 1);
+    }
+    // The first frame sizes the buffers; the next 19 frames of the same crowd allocate nothing.
+    assert!(allocations[0] > 0);
+    assert!(
+        allocations.iter().all(|&a| a == allocations[0]),
+        "{allocations:?}"
+    );
+}
+
+#[test]
+fn the_default_camera_keeps_the_whole_scene_in_view() {
+    let scene = scene::load(&support::crate_path("assets/scenes/seed.ron")).unwrap();
+    let bounds = SceneBounds::of_scene(&scene);
+    for (w, h) in [(1280u32, 720u32), (400, 800)] {
+        let camera = OrbitCamera::framing(&bounds, f64::from(w) / f64::from(h));
+        let vp = Viewport::full(w, h);
+        for k in 0..8 {
+            let corner = DVec3::new(
+                if k & 1 == 0 {
+                    bounds.min.x
+                } else {
+                    bounds.max.x
+                },
+                if k & 2 == 0 {
+                    bounds.min.y
+                } else {
+                    bounds.max.y
+                },
+                if k & 4 == 0 {
+                    bounds.min.z
+                } else {
+                    bounds.max.z
+                },
+            );
+            let p = camera.project(corner, &vp).expect("in front of the eye");
+            // The framing leaves a 10 % margin; a pixel of slack for rounding.
+            assert!(
+                p.x >= -1.0 && p.x <= w as f32 + 1.0 && p.y >= -1.0 && p.y <= h as f32 + 1.0,
+                "corner {corner} at {p} outside {w} x {h}"
+            );
+        }
+    }
 }

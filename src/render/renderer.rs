@@ -141,6 +141,7 @@ pub struct Renderer {
     list: DrawList,
     counts: Vec<u32>,
     segments: u32,
+    allocations: u64,
 }
 
 impl Renderer {
@@ -178,6 +179,7 @@ impl Renderer {
             list: DrawList::default(),
             counts: Vec::new(),
             segments: 0,
+            allocations: 0,
         }
     }
 
@@ -191,13 +193,23 @@ impl Renderer {
         &self.list
     }
 
+    /// How many times a frame needed a bigger GPU buffer (instances, lines, trails) since the
+    /// renderer was made: buffers are kept between frames and only grow, so this stops
+    /// changing once the scene stops growing.
+    pub fn buffer_allocations(&self) -> u64 {
+        self.allocations
+    }
+
     /// Builds and uploads everything the next [`Renderer::encode`] draws.
     pub fn prepare(&mut self, gpu: &Gpu, lanes: &[Lane<'_>], view: &View, options: &DrawOptions) {
         self.list.build(lanes, options);
-        self.solid.write(gpu, &self.list.solid);
-        self.translucent.write(gpu, &self.list.translucent);
-        self.lines.write(gpu, &self.list.lines);
-        self.surfaces.write(gpu, &self.list.surfaces);
+        let grew = [
+            self.solid.write(gpu, &self.list.solid),
+            self.translucent.write(gpu, &self.list.translucent),
+            self.lines.write(gpu, &self.list.lines),
+            self.surfaces.write(gpu, &self.list.surfaces),
+        ];
+        self.allocations += grew.iter().filter(|g| **g).count() as u64;
         let ground = lanes
             .first()
             .and_then(|l| l.world.contacts().ground.map(|g| g.height));
@@ -310,6 +322,7 @@ impl Renderer {
         gpu.queue
             .write_buffer(&t.uniform, 0, bytemuck::bytes_of(&uniform));
         if regroup {
+            self.allocations += 1;
             let t = &self.trails[k];
             let group = self.trail_group(gpu, &t.uniform, &t.samples, &t.counts);
             self.trails[k].group = group;

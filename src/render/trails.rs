@@ -168,3 +168,17 @@ impl TrailRing {
         self.id
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_few_trails_are_whole_and_a_crowd_shares_the_budget() {
+        assert_eq!(segments_per_trail(0), (TRAIL_SAMPLES - 1) as u32);
+        assert_eq!(segments_per_trail(1), (TRAIL_SAMPLES - 1) as u32);
+        assert_eq!(segments_per_trail(1000), 65);
+        assert_eq!(segments_per_trail(TRAIL_BODIES), 32);
+        assert_eq!(segments_per_trail(1 << 20), MIN_TRAIL_SEGMENTS as u32);
+    }
+}
