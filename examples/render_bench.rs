@@ -3,7 +3,7 @@
 //! section.
 //!
 //! ```text
-//! cargo run --release --example render_bench [-- FRAMES]
+//! cargo run --release --example render_bench [-- FRAMES [REPEATS]]   # default 30 frames, 3 runs
 //! WGPU_BACKEND=gl cargo run --release --example render_bench   # llvmpipe instead of lavapipe
 //! ```
 //!
@@ -59,11 +59,78 @@ fn frame(
     (start.elapsed(), prepared)
 }
 
+/// One row's measurements in one run (ms): frame median, frame p90, CPU median, spheres-only
+/// median.
+type Row = [f64; 4];
+
+fn measure(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    target: &OffscreenTarget,
+    count: u32,
+    frames: usize,
+) -> Row {
+    let scene = volley_scene(count);
+    let bounds = SceneBounds::of_scene(&scene);
+    let mut world = World::new(&scene);
+    world.set_threads(1);
+    let mut sim = SimLoop::new(world);
+    let mut history = TickHistory::new(&sim.world, bounds.center());
+    let mut clock = VirtualClock::Steady(scene.timestep);
+    sim.run_until(30, &mut clock, &mut history).unwrap();
+    let options = DrawOptions {
+        origin: bounds.center(),
+        scale: bounds.radius(),
+        trails: true,
+        ghosts: true,
+    };
+    let spheres_only = DrawOptions {
+        trails: false,
+        ghosts: false,
+        ..options
+    };
+    let view = View {
+        camera: OrbitCamera::framing(&bounds, f64::from(SIZE.0) / f64::from(SIZE.1)),
+        viewport: Viewport::full(SIZE.0, SIZE.1),
+        target_size: SIZE,
+    };
+    let (mut total, mut cpu, mut bare) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..frames + 3 {
+        let next = sim.world.tick() + 1;
+        sim.run_until(next, &mut clock, &mut history).unwrap();
+        let lane = volley::render::Lane {
+            world: &sim.world,
+            history: &history,
+            alpha: 0.5,
+            colour: integrator_colour(sim.world.integrator()),
+        };
+        let (time, prepared) = frame(gpu, renderer, target, lane, &view, &options);
+        let (alone, _) = frame(gpu, renderer, target, lane, &view, &spheres_only);
+        if k >= 3 {
+            total.push(time);
+            cpu.push(prepared);
+            bare.push(alone);
+        }
+    }
+    for v in [&mut total, &mut cpu, &mut bare] {
+        v.sort();
+    }
+    [
+        percentile(&total, 0.5),
+        percentile(&total, 0.9),
+        percentile(&cpu, 0.5),
+        percentile(&bare, 0.5),
+    ]
+}
+
 fn main() {
-    let frames: usize = std::env::args()
-        .nth(1)
-        .and_then(|a| a.parse().ok())
-        .unwrap_or(30);
+    let arg = |i: usize, default: usize| {
+        std::env::args()
+            .nth(i)
+            .and_then(|a| a.parse().ok())
+            .unwrap_or(default)
+    };
+    let (frames, repeats) = (arg(1, 30), arg(2, 3).max(1));
     let gpu = match Gpu::headless() {
         Ok(gpu) => gpu,
         Err(e) => {
@@ -73,70 +140,43 @@ fn main() {
     };
     let mut renderer = Renderer::new(&gpu, OFFSCREEN_FORMAT);
     let target = OffscreenTarget::new(&gpu, SIZE, OFFSCREEN_FORMAT);
+    let counts = [1u32, 1_000, 10_000, 100_000];
+    let mut runs: Vec<Vec<Row>> = vec![Vec::new(); counts.len()];
+    for _ in 0..repeats {
+        for (k, &count) in counts.iter().enumerate() {
+            runs[k].push(measure(&gpu, &mut renderer, &target, count, frames));
+        }
+    }
     println!(
-        "Adapter: {}; {} x {} px; {frames} frames per row after 3 warm-up frames.\n",
+        "Adapter: {}; {} x {} px; {frames} frames per row after 3 warm-up frames; the whole \
+         table run {repeats} times: median of the runs (min to max).\n",
         gpu.describe(),
         SIZE.0,
         SIZE.1
     );
     println!(
-        "| bodies | frame median (ms) | frame p90 (ms) | of which CPU build + upload (ms) | \
-         fps at median | spheres only, median (ms) |"
+        "| bodies | frame, median (ms) | frame, p90 (ms) | of which CPU build + upload (ms) | \
+         fps | spheres only, median (ms) |"
     );
     println!("|---:|---:|---:|---:|---:|---:|");
-    for count in [1u32, 1_000, 10_000, 100_000] {
-        let scene = volley_scene(count);
-        let bounds = SceneBounds::of_scene(&scene);
-        let mut world = World::new(&scene);
-        world.set_threads(1);
-        let mut sim = SimLoop::new(world);
-        let mut history = TickHistory::new(&sim.world, bounds.center());
-        let mut clock = VirtualClock::Steady(scene.timestep);
-        sim.run_until(30, &mut clock, &mut history).unwrap();
-        let options = DrawOptions {
-            origin: bounds.center(),
-            scale: bounds.radius(),
-            trails: true,
-            ghosts: true,
+    for (k, count) in counts.iter().enumerate() {
+        let column = |c: usize| {
+            let mut v: Vec<f64> = runs[k].iter().map(|r| r[c]).collect();
+            v.sort_by(f64::total_cmp);
+            (v[v.len() / 2], v[0], v[v.len() - 1])
         };
-        let view = View {
-            camera: OrbitCamera::framing(&bounds, f64::from(SIZE.0) / f64::from(SIZE.1)),
-            viewport: Viewport::full(SIZE.0, SIZE.1),
-            target_size: SIZE,
+        let cell = |c: usize| {
+            let (mid, lo, hi) = column(c);
+            format!("{mid:.1} ({lo:.1} to {hi:.1})")
         };
-        let (mut total, mut cpu, mut bare) = (Vec::new(), Vec::new(), Vec::new());
-        for k in 0..frames + 3 {
-            let next = sim.world.tick() + 1;
-            sim.run_until(next, &mut clock, &mut history).unwrap();
-            let lane = volley::render::Lane {
-                world: &sim.world,
-                history: &history,
-                alpha: 0.5,
-                colour: integrator_colour(sim.world.integrator()),
-            };
-            let (time, prepared) = frame(&gpu, &mut renderer, &target, lane, &view, &options);
-            let spheres_only = DrawOptions {
-                trails: false,
-                ghosts: false,
-                ..options
-            };
-            let (alone, _) = frame(&gpu, &mut renderer, &target, lane, &view, &spheres_only);
-            if k >= 3 {
-                total.push(time);
-                cpu.push(prepared);
-                bare.push(alone);
-            }
-        }
-        bare.sort();
-        total.sort();
-        cpu.sort();
-        let median = percentile(&total, 0.5);
+        let (median, _, _) = column(0);
         println!(
-            "| {count} | {median:.2} | {:.2} | {:.2} | {:.0} | {:.2} |",
-            percentile(&total, 0.9),
-            percentile(&cpu, 0.5),
+            "| {count} | {} | {} | {:.2} | {:.0} | {} |",
+            cell(0),
+            cell(1),
+            column(2).0,
             1e3 / median,
-            percentile(&bare, 0.5)
+            cell(3)
         );
     }
 }
