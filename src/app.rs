@@ -248,6 +248,11 @@ impl App {
         };
         let gfx = WindowGpu::new(event_loop, window.clone()).map_err(AppError::Gpu)?;
         self.stats.adapter = gfx.gpu.describe();
+        if self.egui_state.is_some() {
+            // A new device after a suspension: a new context, so egui sends its font atlas to
+            // the new renderer (it never sends a texture twice).
+            self.egui = egui::Context::default();
+        }
         let max_texture = gfx.gpu.device.limits().max_texture_dimension_2d as usize;
         self.egui_state = Some(egui_winit::State::new(
             self.egui.clone(),
@@ -334,7 +339,8 @@ impl App {
                 gfx.egui.free_texture(&id);
             }
         }
-        // Without a device the deltas have nowhere to go; egui rebuilds them on demand.
+        // Without a device (suspended) the deltas have nowhere to go; the context is replaced
+        // when the device comes back.
         textures.clear();
         self.update_stats(start, &window);
     }
