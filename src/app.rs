@@ -95,15 +95,40 @@ impl std::fmt::Display for AppError {
 
 impl std::error::Error for AppError {}
 
+/// What a window run drew, for a closing summary.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RunSummary {
+    /// Frames presented.
+    pub frames: u64,
+    /// The adapter, as [`crate::render::Gpu::describe`] gives it.
+    pub adapter: String,
+    /// Median time between frames (ms), over the frames of a run with a frame limit (empty
+    /// otherwise, to keep a long session's memory flat).
+    pub interval_ms: Option<f64>,
+    /// Median time spent on a frame (ms): stepping, the panel, drawing, presenting.
+    pub work_ms: Option<f64>,
+}
+
 /// Opens the window on `scene` (read from `path`) and runs until it is closed.
-pub fn run(scene: Scene, path: &Path, options: WindowOptions) -> Result<(), AppError> {
+pub fn run(scene: Scene, path: &Path, options: WindowOptions) -> Result<RunSummary, AppError> {
     let event_loop = EventLoop::new().map_err(|e| AppError::NoDisplay(os_reason(&e)))?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let mut app = App::new(scene, path, options);
     event_loop
         .run_app(&mut app)
         .map_err(|e| AppError::NoDisplay(e.to_string()))?;
-    app.outcome
+    app.outcome.clone()?;
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied()
+    };
+    Ok(RunSummary {
+        frames: app.stats.frames,
+        adapter: app.stats.adapter.clone(),
+        // The first interval includes opening the window and the device.
+        interval_ms: median(&mut app.timings.iter().skip(1).map(|t| t.0).collect()),
+        work_ms: median(&mut app.timings.iter().map(|t| t.1).collect()),
+    })
 }
 
 /// The reason in a winit error without the source location winit prefixes to it.
@@ -151,6 +176,8 @@ struct App {
     viewport: Viewport,
     screenshot: Option<PathBuf>,
     last_frame: Instant,
+    /// (interval, work) of each frame (ms), kept only when the run has a frame limit.
+    timings: Vec<(f64, f64)>,
     quit: bool,
     outcome: Result<(), AppError>,
 }
@@ -186,6 +213,7 @@ impl App {
             viewport: Viewport::full(1, 1),
             screenshot: None,
             last_frame: Instant::now(),
+            timings: Vec::new(),
             quit: false,
             outcome: Ok(()),
             options,
@@ -354,8 +382,12 @@ impl App {
             }
         };
         let interval = start.duration_since(self.last_frame).as_secs_f64() * 1e3;
+        let work = start.elapsed().as_secs_f64() * 1e3;
         self.stats.interval_ms = blend(self.stats.interval_ms, interval);
-        self.stats.work_ms = blend(self.stats.work_ms, start.elapsed().as_secs_f64() * 1e3);
+        self.stats.work_ms = blend(self.stats.work_ms, work);
+        if self.options.exit_after_frames.is_some() {
+            self.timings.push((interval, work));
+        }
         let size = window.inner_size();
         self.stats.size = (size.width, size.height);
         self.stats.scale = window.scale_factor();

@@ -139,7 +139,16 @@ pub fn run(args: &WindowArgs) -> Result<(), Failure> {
         watch: !args.no_watch,
         scenes: bundled_scenes(),
     };
-    app::run(scene, &path, options).map_err(|e| match e {
+    let summary = app::run(scene, &path, options).map_err(|e| match e {
         AppError::NoDisplay(_) | AppError::Gpu(_) | AppError::Io(_) => fail(EXIT_ENVIRONMENT, e),
-    })
+    })?;
+    if let (Some(_), Some(interval), Some(work)) =
+        (args.exit_after_frames, summary.interval_ms, summary.work_ms)
+    {
+        println!(
+            "window: {} frames, median frame {interval:.2} ms, of which work {work:.2} ms, on {}",
+            summary.frames, summary.adapter
+        );
+    }
+    Ok(())
 }
