@@ -146,7 +146,7 @@ impl DrawList {
             });
         }
         for w in &world.contacts().walls {
-            self.wall(w.point, w.normal, w.thickness, options);
+            self.wall(w.point, w.normal, w.thickness, world, options);
         }
         let l = world.launcher();
         self.solid.push(SphereInstance {
@@ -235,32 +235,90 @@ impl DrawList {
         }
     }
 
-    /// A wall as a translucent square slab around its point, both faces, with an outline.
-    fn wall(&mut self, point: DVec3, normal: DVec3, thickness: f64, options: &DrawOptions) {
+    /// A wall as a translucent square slab around its point (both faces, with an outline), cut
+    /// off at the ground: the ground is solid, nothing of a wall shows below it.
+    fn wall(
+        &mut self,
+        point: DVec3,
+        normal: DVec3,
+        thickness: f64,
+        world: &World,
+        o: &DrawOptions,
+    ) {
         let helper = if normal.z.abs() < 0.9 {
             DVec3::Z
         } else {
             DVec3::X
         };
-        let u = normal.cross(helper).normalize() * options.scale;
-        let v = normal.cross(u).normalize() * options.scale;
+        let u = normal.cross(helper).normalize() * o.scale;
+        let v = normal.cross(u).normalize() * o.scale;
+        let floor = world.contacts().ground.map(|g| g.height);
         for side in [-0.5, 0.5] {
             let c = point + side * thickness * normal;
-            let corners = [c - u - v, c + u - v, c + u + v, c - u + v];
-            for k in [0, 1, 2, 0, 2, 3] {
-                self.surfaces.push(ColouredVertex {
-                    position: rel(corners[k], options.origin),
-                    colour: WALL,
-                });
+            let square = [c - u - v, c + u - v, c + u + v, c - u + v];
+            let face = match floor {
+                Some(z) => clip_above(&square, z),
+                None => square.to_vec(),
+            };
+            for k in 1..face.len().saturating_sub(1) {
+                for p in [face[0], face[k], face[k + 1]] {
+                    self.surfaces.push(ColouredVertex {
+                        position: rel(p, o.origin),
+                        colour: WALL,
+                    });
+                }
             }
-            for k in 0..4 {
-                self.line(corners[k], corners[(k + 1) % 4], WALL, options.origin);
+            for k in 0..face.len() {
+                self.line(face[k], face[(k + 1) % face.len()], WALL, o.origin);
             }
         }
     }
 }
 
+/// The part of a convex polygon at or above height `z` (Sutherland-Hodgman against one plane).
+pub fn clip_above(polygon: &[DVec3], z: f64) -> Vec<DVec3> {
+    let mut out = Vec::with_capacity(polygon.len() + 1);
+    for (k, &a) in polygon.iter().enumerate() {
+        let b = polygon[(k + 1) % polygon.len()];
+        if a.z >= z {
+            out.push(a);
+        }
+        if (a.z >= z) != (b.z >= z) {
+            let t = (z - a.z) / (b.z - a.z);
+            out.push(a + t * (b - a));
+        }
+    }
+    out
+}
+
 /// How far ahead ghost trajectories reach: the scene's duration, at least 1 s.
 fn horizon(world: &World) -> f64 {
     world.scene().duration.max(1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clipping_a_square_at_its_middle_keeps_the_upper_half() {
+        let square = [
+            DVec3::new(0.0, 0.0, -1.0),
+            DVec3::new(1.0, 0.0, -1.0),
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(0.0, 0.0, 1.0),
+        ];
+        let upper = clip_above(&square, 0.0);
+        assert_eq!(
+            upper,
+            [
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.0, 1.0),
+                DVec3::new(0.0, 0.0, 1.0),
+                DVec3::new(0.0, 0.0, 0.0),
+            ]
+        );
+        assert!(clip_above(&square, 2.0).is_empty());
+        assert_eq!(clip_above(&square, -1.0).len(), 4);
+    }
 }
