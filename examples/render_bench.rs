@@ -83,6 +83,7 @@ fn measure(
         scale: bounds.radius(),
         trails: true,
         ghosts: true,
+        aim: None,
     };
     let spheres_only = DrawOptions {
         trails: false,

@@ -83,6 +83,7 @@ fn the_seed_scene_at_tick_10_matches_its_golden_image() {
         scale: bounds.radius(),
         trails: true,
         ghosts: true,
+        aim: None,
     };
     let camera = OrbitCamera::framing(&bounds, 480.0 / 270.0);
     let image = draw(&gpu, &sim.world, &history, camera, &options, size);
@@ -147,6 +148,7 @@ fn a_body_at_a_known_world_position_lands_on_the_expected_pixel() {
         scale: 1.0,
         trails: false,
         ghosts: false,
+        aim: None,
     };
     let size = (200, 100);
     let image = draw(
@@ -231,6 +233,7 @@ fn frames_reuse_their_buffers_and_draw_every_lane_in_one_instance_list() {
         scale: bounds.radius(),
         trails: true,
         ghosts: true,
+        aim: None,
     };
     let mut allocations = Vec::new();
     for tick in 1..=20 {

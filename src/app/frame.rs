@@ -42,11 +42,20 @@ impl App {
         };
         let lanes = self.session.draw_lanes();
         let bounds = self.session.bounds();
+        // While commands wait for the next tick (paused), the launcher shows the panel's aim.
+        let waiting = self.session.lanes().iter().any(|l| l.pending() > 0);
+        let aim = waiting.then(|| crate::scene::Launcher {
+            speed: self.panel.speed,
+            elevation_deg: self.panel.elevation_deg,
+            azimuth_deg: self.panel.azimuth_deg,
+            ..*self.session.world().launcher()
+        });
         let options = DrawOptions {
             origin: bounds.center(),
             scale: bounds.radius(),
             trails: self.toggles.trails,
             ghosts: self.toggles.ghosts,
+            aim,
         };
         let view = View {
             camera: self.camera,

@@ -230,6 +230,7 @@ impl FrameWriter {
                 scale: bounds.radius(),
                 trails: true,
                 ghosts: true,
+                aim: None,
             },
             renderer,
             target,

@@ -10,6 +10,7 @@ use glam::DVec3;
 
 use crate::integrate::Integrator;
 use crate::render::history::TickHistory;
+use crate::scene::Launcher;
 use crate::world::World;
 
 /// An sRGB colour with alpha, 0-255 each.
@@ -86,6 +87,9 @@ pub struct DrawOptions {
     pub trails: bool,
     /// Closed-form ghosts (trajectory and sphere) of the first lane's first bodies.
     pub ghosts: bool,
+    /// Draw the launcher with this aim instead of the world's: the aim of a `launch` command
+    /// still queued (while paused), which the next `fire` will use.
+    pub aim: Option<Launcher>,
 }
 
 /// The arrays of one frame; kept between frames so their allocations are reused.
@@ -148,7 +152,7 @@ impl DrawList {
         for w in &world.contacts().walls {
             self.wall(w.point, w.normal, w.thickness, world, options);
         }
-        let l = world.launcher();
+        let l = options.aim.unwrap_or(*world.launcher());
         self.solid.push(SphereInstance {
             center: rel(l.position, o),
             radius: (2.0 * l.radius).max(0.01 * options.scale) as f32,
@@ -166,7 +170,7 @@ impl DrawList {
 
     /// The closed-form path of the next shot from the launcher, dashed, where one exists.
     fn launcher_shot(&mut self, world: &World, options: &DrawOptions) {
-        let l = world.launcher();
+        let l = options.aim.unwrap_or(*world.launcher());
         let shot = crate::render::reference::Reference {
             id: crate::world::BodyId(u64::MAX),
             spawn_tick: world.tick(),
@@ -320,5 +324,37 @@ mod tests {
         );
         assert!(clip_above(&square, 2.0).is_empty());
         assert_eq!(clip_above(&square, -1.0).len(), 4);
+    }
+
+    #[test]
+    fn a_queued_aim_turns_the_launcher_before_the_world_does() {
+        let text = "Scene(dt: 0.1, integrator: Rk4,
+            launcher: (position: (0, 0, 0), speed: 10, elevation_deg: 0, azimuth_deg: 0))";
+        let world = World::new(&crate::scene::parse(text, "aim.ron", "aim").unwrap());
+        let history = TickHistory::new(&world, DVec3::ZERO);
+        let lane = Lane {
+            world: &world,
+            history: &history,
+            alpha: 1.0,
+            colour: GHOST,
+        };
+        let mut options = DrawOptions {
+            origin: DVec3::ZERO,
+            scale: 100.0,
+            trails: false,
+            ghosts: false,
+            aim: None,
+        };
+        let mut list = DrawList::default();
+        list.build(&[lane], &options);
+        // The barrel is the first line: 6 m (0.06 x scale) along the launch direction.
+        assert_eq!(list.lines[1].position, [6.0, 0.0, 0.0]);
+        options.aim = Some(Launcher {
+            elevation_deg: 90.0,
+            ..*world.launcher()
+        });
+        list.build(&[lane], &options);
+        let tip = list.lines[1].position;
+        assert!(tip[0].abs() < 1e-6 && tip[2] == 6.0, "{tip:?}");
     }
 }
