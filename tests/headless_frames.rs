@@ -68,3 +68,22 @@ fn a_bad_frame_size_is_refused_as_bad_input() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("--size"), "{stderr}");
 }
+
+#[test]
+fn without_an_adapter_frames_exit_4_with_one_line_naming_the_way_without_a_gpu() {
+    let dir = support::scratch_dir("noadapter");
+    // WebGPU is the browser's backend: no native build has it, so this finds no adapter on
+    // any machine.
+    let output = Command::new(env!("CARGO_BIN_EXE_volley"))
+        .args(["headless", "seed", "--ticks", "2", "--no-table", "--frames"])
+        .arg(&dir)
+        .env("WGPU_BACKEND", "webgpu")
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(4));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let ours: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(ours.len(), 1, "{stderr}");
+    assert!(ours[0].contains("no GPU adapter"), "{stderr}");
+    assert!(ours[0].contains("run without --frames"), "{stderr}");
+}
