@@ -75,3 +75,24 @@ fn without_a_display_the_window_exits_4_naming_the_headless_mode() {
     assert_eq!(ours.len(), 1, "{stderr}");
     assert!(ours[0].contains("volley headless"), "{stderr}");
 }
+
+#[test]
+fn without_an_adapter_the_window_exits_4_naming_the_headless_mode() {
+    let test = "without_an_adapter_the_window_exits_4_naming_the_headless_mode";
+    if !has("xvfb-run") {
+        return support::unavailable(test, "xvfb-run is not installed (apt-get install xvfb)");
+    }
+    // A display but no adapter: WebGPU is the browser's backend, absent from native builds.
+    let output = Command::new("xvfb-run")
+        .arg("-a")
+        .arg(env!("CARGO_BIN_EXE_volley"))
+        .args(["window", "--exit-after-frames", "1", "--no-watch"])
+        .env("WGPU_BACKEND", "webgpu")
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(4));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let ours: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(ours.len(), 1, "{stderr}");
+    assert!(ours[0].contains("volley headless"), "{stderr}");
+}
