@@ -1,6 +1,6 @@
 //! The sandbox window: a winit [`ApplicationHandler`] that owns the window, turns input into
 //! [`Action`]s (and those into commands), paces frames, and draws each one with the same
-//! [`Renderer`] the offscreen capture uses, plus the egui panel.
+//! [`crate::render::Renderer`] the offscreen capture uses, plus the egui panel.
 //!
 //! A frame: the frame delta (the real clock, or a steady virtual one with `--frame-rate`) goes
 //! to every lane of the [`Session`]; the panel is laid out; the 3D view fills what the panel
