@@ -34,6 +34,7 @@
 //! assert_eq!(sim.world.tick(), 27);
 //! ```
 
+pub mod app;
 pub mod clock;
 pub mod command;
 pub mod contact;
@@ -41,6 +42,7 @@ pub mod exact;
 pub mod forces;
 pub mod hash;
 pub mod integrate;
+pub mod render;
 pub mod replay;
 pub mod scene;
 pub mod sim_loop;

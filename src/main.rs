@@ -37,6 +37,8 @@ enum Cmd {
     Record(cli::record::RecordArgs),
     /// Play a recording back as a table, or verify it bit for bit (--verify).
     Replay(cli::replay::ReplayArgs),
+    /// Open the sandbox window (what `volley` alone does, on the seed scene).
+    Window(cli::window::WindowArgs),
 }
 
 fn main() -> ExitCode {
@@ -51,7 +53,8 @@ fn main() -> ExitCode {
         Some(Cmd::Study(args)) => cli::study::run(&args),
         Some(Cmd::Record(args)) => cli::record::run(&args),
         Some(Cmd::Replay(args)) => cli::replay::run(&args),
-        None => cli::headless::default_run(),
+        Some(Cmd::Window(args)) => cli::window::run(&args),
+        None => cli::window::default_run(),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

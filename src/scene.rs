@@ -80,7 +80,9 @@ impl Scene {
     /// Overrides the substeps per tick (at least 1).
     pub fn set_substeps(&mut self, substeps: u32) -> Result<(), String> {
         if !(1..=MAX_SUBSTEPS).contains(&substeps) {
-            return Err(format!("substeps: expected 1 to {MAX_SUBSTEPS}, got {substeps}"));
+            return Err(format!(
+                "substeps: expected 1 to {MAX_SUBSTEPS}, got {substeps}"
+            ));
         }
         self.substeps = substeps;
         Ok(())

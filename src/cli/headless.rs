@@ -50,6 +50,16 @@ pub struct HeadlessArgs {
     /// Command script (`TICK: COMMAND` lines) applied during the run.
     #[arg(long)]
     pub commands: Option<PathBuf>,
+    /// Write a PNG of the scene into this folder at tick 0 and every `--frame-every` ticks
+    /// (rendered offscreen; needs a GPU adapter, a software one will do).
+    #[arg(long, value_name = "DIR")]
+    pub frames: Option<PathBuf>,
+    /// Frame size for `--frames`, WIDTHxHEIGHT in pixels (default 1280x720).
+    #[arg(long, value_name = "WxH", requires = "frames")]
+    pub size: Option<String>,
+    /// Ticks between frames for `--frames`.
+    #[arg(long, value_name = "K", default_value_t = 1, requires = "frames")]
+    pub frame_every: u64,
 }
 
 impl HeadlessArgs {
@@ -68,16 +78,11 @@ impl HeadlessArgs {
             no_table: false,
             threads: 1,
             commands: None,
+            frames: None,
+            size: None,
+            frame_every: 1,
         }
     }
-}
-
-/// Until the window lands: run the default scene headless and print events and its summary.
-pub fn default_run() -> Result<(), Failure> {
-    run(&HeadlessArgs {
-        no_table: true,
-        ..HeadlessArgs::for_scene("seed")
-    })
 }
 
 /// Parses an integrator name for a flag, listing the valid names on error.
@@ -174,7 +179,18 @@ pub fn run(args: &HeadlessArgs) -> Result<(), Failure> {
         table.rows(&sim.world).map_err(io)?;
     }
     let mut source = VirtualClock::Steady(scene.timestep);
-    let outcome = sim.run_until(ticks, &mut source, &mut table);
+    let outcome = match &args.frames {
+        Some(dir) => {
+            let size = args.size.as_deref();
+            let mut frames = super::frames::writer(&sim.world, dir, size, args.frame_every)?;
+            let mut both = super::frames::WithFrames {
+                inner: &mut table,
+                frames: &mut frames,
+            };
+            sim.run_until(ticks, &mut source, &mut both)
+        }
+        None => sim.run_until(ticks, &mut source, &mut table),
+    };
     table.flush().map_err(io)?;
     outcome.map_err(loop_failure)?;
     table.summary(&Summary::of(&sim.world)).map_err(io)

@@ -1,11 +1,13 @@
 //! Subcommand implementations of the `volley` binary, one file each, plus what they share.
 
 pub mod aim;
+pub mod frames;
 pub mod headless;
 pub mod record;
 pub mod replay;
 pub mod scenes;
 pub mod study;
+pub mod window;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

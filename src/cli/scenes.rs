@@ -34,7 +34,8 @@ pub fn run() -> Result<(), Failure> {
     Ok(())
 }
 
-fn collect_ron(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
+/// Every `.ron` file under `dir`, recursively, into `out`.
+pub fn collect_ron(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
     for entry in std::fs::read_dir(dir)? {
         let path = entry?.path();
         if path.is_dir() {

@@ -1,0 +1,469 @@
+//! The sandbox window: a winit [`ApplicationHandler`] that owns the window, turns input into
+//! [`Action`]s (and those into commands), paces frames, and draws each one with the same
+//! [`crate::render::Renderer`] the offscreen capture uses, plus the egui panel.
+//!
+//! A frame: the frame delta (the real clock, or a steady virtual one with `--frame-rate`) goes
+//! to every lane of the [`Session`]; the panel is laid out; the 3D view fills what the panel
+//! leaves; the scene and the panel are encoded into the surface texture and presented. Device and
+//! surface are created on `resumed`, as winit requires. Without vsync, frames are capped at
+//! [`MAX_FPS`] so a software adapter does not spin a core drawing frames nobody sees.
+
+mod control;
+mod frame;
+pub mod input;
+pub mod panel;
+pub mod session;
+pub mod surface;
+pub mod watch;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use winit::application::ApplicationHandler;
+use winit::event::{MouseButton, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::window::{Window, WindowId};
+
+use crate::clock::{FrameSource, RealClock, VirtualClock};
+use crate::integrate::Integrator;
+use crate::render::{GpuError, OrbitCamera, Viewport};
+use crate::scene::Scene;
+use frame::viewport_of;
+pub use input::Action;
+use panel::{FrameStats, PanelState};
+pub use session::Session;
+use surface::WindowGpu;
+use watch::SceneWatch;
+
+/// Highest frame rate drawn when the display does not pace frames itself.
+pub const MAX_FPS: f64 = 250.0;
+/// Weight of the newest frame in the smoothed frame times.
+const SMOOTHING: f64 = 0.1;
+
+/// How the window runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WindowOptions {
+    /// Integrators to compare side by side (empty: one world).
+    pub compare: Vec<Integrator>,
+    /// Close after this many frames (smoke tests, screenshots).
+    pub exit_after_frames: Option<u64>,
+    /// Save the last frame (scene and panel) to this PNG before closing.
+    pub screenshot: Option<PathBuf>,
+    /// Initial inner size (logical px).
+    pub size: (u32, u32),
+    /// Drive the loop with steady frames of this rate instead of the real clock.
+    pub frame_rate: Option<f64>,
+    /// Start paused.
+    pub paused: bool,
+    /// Initial time scale.
+    pub time_scale: f64,
+    /// Watch the scene file and reload it when it is saved.
+    pub watch: bool,
+    /// Bundled scenes for the picker, (name, path).
+    pub scenes: Vec<(String, PathBuf)>,
+}
+
+/// Why the window could not run.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AppError {
+    /// No display server to open a window on.
+    NoDisplay(String),
+    /// No adapter, device or surface.
+    Gpu(GpuError),
+    /// A file could not be written (a screenshot).
+    Io(String),
+}
+
+impl std::fmt::Display for AppError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            AppError::NoDisplay(why) => write!(
+                f,
+                "no display to open a window on ({why}); `volley headless SCENE` runs without \
+                 one (add --frames DIR for pictures)"
+            ),
+            AppError::Gpu(e) => write!(
+                f,
+                "{e}; `volley headless SCENE` runs without a GPU (its --frames option needs \
+                 only a software adapter)"
+            ),
+            AppError::Io(why) => f.write_str(why),
+        }
+    }
+}
+
+impl std::error::Error for AppError {}
+
+/// What a window run drew, for a closing summary.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RunSummary {
+    /// Frames presented.
+    pub frames: u64,
+    /// The adapter, as [`crate::render::Gpu::describe`] gives it.
+    pub adapter: String,
+    /// Median time between frames (ms), over the frames of a run with a frame limit (empty
+    /// otherwise, to keep a long session's memory flat).
+    pub interval_ms: Option<f64>,
+    /// Median time spent on a frame (ms): stepping, the panel, drawing, presenting.
+    pub work_ms: Option<f64>,
+}
+
+/// Opens the window on `scene` (read from `path`) and runs until it is closed.
+pub fn run(scene: Scene, path: &Path, options: WindowOptions) -> Result<RunSummary, AppError> {
+    let event_loop = EventLoop::new().map_err(|e| AppError::NoDisplay(os_reason(&e)))?;
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let mut app = App::new(scene, path, options);
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| AppError::NoDisplay(e.to_string()))?;
+    app.outcome.clone()?;
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied()
+    };
+    Ok(RunSummary {
+        frames: app.stats.frames,
+        adapter: app.stats.adapter.clone(),
+        // The first interval includes opening the window and the device.
+        interval_ms: median(&mut app.timings.iter().skip(1).map(|t| t.0).collect()),
+        work_ms: median(&mut app.timings.iter().map(|t| t.1).collect()),
+    })
+}
+
+/// The reason in a winit error without the source location winit prefixes to it.
+fn os_reason(e: &dyn std::fmt::Display) -> String {
+    let text = e.to_string();
+    match text.split_once("os error at ") {
+        Some((_, rest)) => rest.rsplit_once(": ").map_or(rest.to_string(), |(_, why)| {
+            why.trim_end_matches('.').to_string()
+        }),
+        None => text,
+    }
+}
+
+/// Mouse state between events.
+#[derive(Clone, Copy, Debug, Default)]
+struct Pointer {
+    position: Option<(f64, f64)>,
+    dragging: Option<MouseButton>,
+    shift: bool,
+}
+
+/// What the view shows besides the bodies.
+#[derive(Clone, Copy, Debug)]
+struct Toggles {
+    trails: bool,
+    ghosts: bool,
+    panel: bool,
+}
+
+struct App {
+    options: WindowOptions,
+    session: Session,
+    panel: PanelState,
+    stats: FrameStats,
+    camera: OrbitCamera,
+    needs_framing: bool,
+    toggles: Toggles,
+    pointer: Pointer,
+    source: Box<dyn FrameSource>,
+    watch: Option<SceneWatch>,
+    window: Option<Arc<Window>>,
+    gfx: Option<WindowGpu>,
+    egui: egui::Context,
+    egui_state: Option<egui_winit::State>,
+    viewport: Viewport,
+    screenshot: Option<PathBuf>,
+    last_frame: Instant,
+    /// (interval, work) of each frame (ms), kept only when the run has a frame limit.
+    timings: Vec<(f64, f64)>,
+    quit: bool,
+    outcome: Result<(), AppError>,
+}
+
+impl App {
+    fn new(scene: Scene, path: &Path, options: WindowOptions) -> App {
+        let mut session = Session::new(scene, path, options.compare.clone());
+        session.set_paused(options.paused);
+        session.set_time_scale(options.time_scale);
+        let panel = PanelState::new(&session, options.scenes.clone());
+        let source: Box<dyn FrameSource> = match options.frame_rate {
+            Some(hz) => Box::new(VirtualClock::display(hz)),
+            None => Box::new(RealClock::new()),
+        };
+        let mut app = App {
+            camera: OrbitCamera::framing(session.bounds(), 16.0 / 9.0),
+            session,
+            panel,
+            stats: FrameStats::default(),
+            needs_framing: true,
+            toggles: Toggles {
+                trails: true,
+                ghosts: true,
+                panel: true,
+            },
+            pointer: Pointer::default(),
+            source,
+            watch: None,
+            window: None,
+            gfx: None,
+            egui: egui::Context::default(),
+            egui_state: None,
+            viewport: Viewport::full(1, 1),
+            screenshot: None,
+            last_frame: Instant::now(),
+            timings: Vec::new(),
+            quit: false,
+            outcome: Ok(()),
+            options,
+        };
+        app.rewatch();
+        app
+    }
+
+    /// Watches the session's scene file (if watching is on); failure is a note, not an error.
+    fn rewatch(&mut self) {
+        if !self.options.watch {
+            return;
+        }
+        match SceneWatch::new(self.session.path()) {
+            Ok(w) => {
+                self.panel.file_note = Some(("watching for changes".into(), true));
+                self.watch = Some(w);
+            }
+            Err(e) => {
+                self.panel.file_note = Some((format!("hot reload off: {e}"), false));
+                self.watch = None;
+            }
+        }
+    }
+
+    /// Loads `path` and restarts on it; a bad file leaves the running scene and shows why.
+    fn load_scene(&mut self, path: &Path, reload: bool) {
+        match crate::scene::load(path) {
+            Ok(scene) => {
+                self.session.restart(Some((scene, path.to_path_buf())));
+                self.panel.sync(&self.session);
+                if reload {
+                    let at = self.session.world().tick();
+                    self.panel.file_note = Some((format!("reloaded (tick {at})"), true));
+                } else {
+                    self.rewatch();
+                    self.needs_framing = true;
+                }
+                if let Some(w) = &self.window {
+                    w.set_title(&format!("Volley: {}", self.session.scene().name));
+                }
+            }
+            Err(e) => self.panel.file_note = Some((e.to_string(), false)),
+        }
+    }
+
+    fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<(), AppError> {
+        let window = match &self.window {
+            Some(w) => w.clone(),
+            None => {
+                let (w, h) = self.options.size;
+                let attributes = Window::default_attributes()
+                    .with_title(format!("Volley: {}", self.session.scene().name))
+                    .with_inner_size(winit::dpi::LogicalSize::new(w, h));
+                let window = event_loop
+                    .create_window(attributes)
+                    .map_err(|e| AppError::NoDisplay(e.to_string()))?;
+                Arc::new(window)
+            }
+        };
+        let gfx = WindowGpu::new(event_loop, window.clone()).map_err(AppError::Gpu)?;
+        self.stats.adapter = gfx.gpu.describe();
+        if self.egui_state.is_some() {
+            // A new device after a suspension: a new context, so egui sends its font atlas to
+            // the new renderer (it never sends a texture twice).
+            self.egui = egui::Context::default();
+        }
+        let max_texture = gfx.gpu.device.limits().max_texture_dimension_2d as usize;
+        self.egui_state = Some(egui_winit::State::new(
+            self.egui.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            window.theme(),
+            Some(max_texture),
+        ));
+        self.gfx = Some(gfx);
+        self.window = Some(window);
+        Ok(())
+    }
+
+    /// Reloads the scene if its file was saved and has settled.
+    fn check_reload(&mut self, now: Instant) {
+        let changed = self.watch.as_mut().is_some_and(|w| w.poll(now));
+        if changed {
+            let path = self.session.path().to_path_buf();
+            self.load_scene(&path, true);
+        }
+    }
+
+    fn redraw(&mut self) {
+        let start = Instant::now();
+        let delta = self.source.next_delta();
+        self.check_reload(start);
+        self.session.frame(delta);
+        if self.session.lanes().iter().all(|l| l.pending() == 0) {
+            let (dt_ms, pick) = (self.panel.dt_ms, self.panel.compare_pick.clone());
+            self.panel.sync(&self.session);
+            // The dt field keeps what is being typed until it is applied.
+            self.panel.dt_ms = dt_ms;
+            self.panel.compare_pick = pick;
+        }
+        let (Some(window), Some(egui_state)) = (self.window.clone(), self.egui_state.as_mut())
+        else {
+            return;
+        };
+        let raw = egui_state.take_egui_input(&window);
+        let mut actions = Vec::new();
+        let mut rest = egui::Rect::NOTHING;
+        let show_panel = self.toggles.panel;
+        let output = self.egui.run_ui(raw, |ui| {
+            if show_panel {
+                egui::Panel::left("panel")
+                    .default_size(340.0)
+                    .show(ui, |ui| {
+                        panel::show(
+                            ui,
+                            &mut self.panel,
+                            &self.session,
+                            &self.stats,
+                            &mut actions,
+                        )
+                    });
+            }
+            rest = ui.available_rect_before_wrap();
+        });
+        egui_state.handle_platform_output(&window, output.platform_output);
+        for action in actions {
+            self.apply(action);
+        }
+        let ppp = output.pixels_per_point;
+        let primitives = self.egui.tessellate(output.shapes, ppp);
+        let mut textures = output.textures_delta;
+        if let Some(gfx) = self.gfx.as_mut() {
+            for (id, deltas) in textures.set.drain() {
+                for delta in &deltas {
+                    gfx.egui
+                        .update_texture(&gfx.gpu.device, &gfx.gpu.queue, id, delta);
+                }
+            }
+            self.viewport = viewport_of(rest, ppp, gfx.size());
+        }
+        if self.needs_framing && self.viewport.is_visible() {
+            let aspect = f64::from(self.viewport.aspect());
+            self.camera = OrbitCamera::framing(self.session.bounds(), aspect);
+            self.needs_framing = false;
+        }
+        self.present(&primitives, ppp);
+        if let Some(gfx) = self.gfx.as_mut() {
+            for id in textures.free.drain() {
+                gfx.egui.free_texture(&id);
+            }
+        }
+        // Without a device (suspended) the deltas have nowhere to go; the context is replaced
+        // when the device comes back.
+        textures.clear();
+        self.update_stats(start, &window);
+    }
+
+    fn update_stats(&mut self, start: Instant, window: &Window) {
+        let blend = |old: f64, new: f64| {
+            if old == 0.0 {
+                new
+            } else {
+                old + SMOOTHING * (new - old)
+            }
+        };
+        let interval = start.duration_since(self.last_frame).as_secs_f64() * 1e3;
+        let work = start.elapsed().as_secs_f64() * 1e3;
+        self.stats.interval_ms = blend(self.stats.interval_ms, interval);
+        self.stats.work_ms = blend(self.stats.work_ms, work);
+        if self.options.exit_after_frames.is_some() {
+            self.timings.push((interval, work));
+        }
+        let size = window.inner_size();
+        self.stats.size = (size.width, size.height);
+        self.stats.scale = window.scale_factor();
+        self.last_frame = start;
+    }
+
+    fn visible(&self) -> bool {
+        self.gfx.as_ref().is_some_and(WindowGpu::is_drawable)
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.gfx.is_some() {
+            return;
+        }
+        if let Err(e) = self.open(event_loop) {
+            self.outcome = Err(e);
+            event_loop.exit();
+        }
+    }
+
+    fn suspended(&mut self, _event_loop: &ActiveEventLoop) {
+        // The surface may not outlive a suspension (Android); it is rebuilt on `resumed`.
+        self.gfx = None;
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let (Some(window), Some(egui_state)) = (self.window.clone(), self.egui_state.as_mut())
+        else {
+            return;
+        };
+        let consumed = egui_state.on_window_event(&window, &event).consumed;
+        match &event {
+            WindowEvent::CloseRequested => self.quit = true,
+            WindowEvent::Resized(size) => {
+                if let Some(gfx) = self.gfx.as_mut() {
+                    gfx.resize(size.width, size.height);
+                }
+            }
+            WindowEvent::RedrawRequested => self.redraw(),
+            WindowEvent::KeyboardInput { event, .. }
+                if event.state.is_pressed()
+                    && !consumed
+                    && !self.egui.egui_wants_keyboard_input() =>
+            {
+                if let Some(action) = input::action_for_key(&event.logical_key) {
+                    self.apply(action);
+                }
+            }
+            _ => self.on_pointer(&event, consumed || self.egui.is_pointer_over_egui()),
+        }
+        if self.quit {
+            event_loop.exit();
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        if self.quit {
+            event_loop.exit();
+            return;
+        }
+        let Some(window) = &self.window else {
+            return;
+        };
+        if !self.visible() {
+            // Minimised: nothing to draw; the next resize event wakes the loop.
+            event_loop.set_control_flow(ControlFlow::Wait);
+            return;
+        }
+        let due = self.last_frame + Duration::from_secs_f64(1.0 / MAX_FPS);
+        if Instant::now() >= due {
+            event_loop.set_control_flow(ControlFlow::Poll);
+            window.request_redraw();
+        } else {
+            event_loop.set_control_flow(ControlFlow::WaitUntil(due));
+        }
+    }
+}

@@ -1,0 +1,112 @@
+//! Input to actions, actions to commands: the one place the window changes a simulation.
+
+use std::path::PathBuf;
+
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+
+use super::{Action, App};
+use crate::command::Command;
+
+impl App {
+    pub(super) fn apply(&mut self, action: Action) {
+        let s = &mut self.session;
+        match action {
+            Action::TogglePause => s.set_paused(!s.is_paused()),
+            Action::Step => s.single_step(),
+            Action::SetTimeScale(x) => s.set_time_scale(x),
+            Action::ScaleTime(f) => s.set_time_scale((s.time_scale() * f).clamp(1e-3, 100.0)),
+            Action::SetDt(dt) => self.set_dt(dt),
+            Action::ScaleDt(f) => {
+                let dt = s.scene().dt() * f;
+                self.set_dt(dt);
+            }
+            Action::SetIntegrator(i) => s.push(Command::SetIntegrator(i)),
+            Action::Launch {
+                speed,
+                elevation_deg,
+                azimuth_deg,
+            } => s.push(Command::SetLaunch {
+                speed,
+                elevation_deg,
+                azimuth_deg,
+                position: None,
+            }),
+            Action::NudgeLaunch(ds, de, da) => {
+                let p = &mut self.panel;
+                p.speed = (p.speed + ds).max(0.0);
+                p.elevation_deg = (p.elevation_deg + de).clamp(-90.0, 90.0);
+                p.azimuth_deg += da;
+                s.push(Command::SetLaunch {
+                    speed: Some(p.speed),
+                    elevation_deg: Some(p.elevation_deg),
+                    azimuth_deg: Some(p.azimuth_deg),
+                    position: None,
+                });
+            }
+            Action::Fire => s.push(Command::Fire),
+            Action::Reset => s.reset(),
+            Action::PickScene(path) => self.load_scene(&path, false),
+            Action::SetCompare(list) => s.set_compare(list),
+            Action::ToggleCompare => {
+                let list = if s.is_comparing() {
+                    Vec::new()
+                } else {
+                    self.panel.compare_pick.clone()
+                };
+                s.set_compare(list);
+            }
+            Action::ToggleTrails => self.toggles.trails = !self.toggles.trails,
+            Action::ToggleGhosts => self.toggles.ghosts = !self.toggles.ghosts,
+            Action::TogglePanel => self.toggles.panel = !self.toggles.panel,
+            Action::FrameScene => self.needs_framing = true,
+            Action::Screenshot => {
+                let tick = s.world().tick();
+                self.screenshot = Some(PathBuf::from(format!("volley-tick{tick}.png")));
+            }
+            Action::Quit => self.quit = true,
+        }
+    }
+
+    fn set_dt(&mut self, dt: f64) {
+        match self.session.set_dt(dt) {
+            Ok(()) => self.panel.sync(&self.session),
+            Err(e) => self.session.last_error = Some(format!("dt: {e}")),
+        }
+    }
+
+    pub(super) fn on_pointer(&mut self, event: &WindowEvent, over_ui: bool) {
+        match *event {
+            WindowEvent::ModifiersChanged(m) => self.pointer.shift = m.state().shift_key(),
+            WindowEvent::MouseInput { state, button, .. } => {
+                self.pointer.dragging = match state {
+                    ElementState::Pressed if !over_ui => Some(button),
+                    _ => None,
+                };
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                let now = (position.x, position.y);
+                if let (Some(button), Some(last)) = (self.pointer.dragging, self.pointer.position) {
+                    let (dx, dy) = (now.0 - last.0, now.1 - last.1);
+                    let orbit = button == MouseButton::Left && !self.pointer.shift;
+                    if orbit {
+                        // Degrees per logical pixel, the same feel at any HiDPI scale.
+                        let scale = self.stats.scale.max(1.0);
+                        self.camera.orbit(dx / scale, dy / scale);
+                    } else {
+                        let h = f64::from(self.viewport.height.max(1.0));
+                        self.camera.pan(dx, dy, h);
+                    }
+                }
+                self.pointer.position = Some(now);
+            }
+            WindowEvent::MouseWheel { delta, .. } if !over_ui => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
+                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
+                };
+                self.camera.zoom(steps);
+            }
+            _ => {}
+        }
+    }
+}

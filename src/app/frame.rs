@@ -1,0 +1,160 @@
+//! Drawing a frame: the scene and the panel into the surface, or into an offscreen texture for a
+//! screenshot, through the same code.
+
+use std::path::Path;
+
+use super::{App, AppError};
+use crate::render::{DrawOptions, Image, OffscreenTarget, View, Viewport};
+
+impl App {
+    /// Draws the frame into the next surface texture and presents it (skipped while the
+    /// surface has nothing to give: minimised, occluded, rebuilt).
+    pub(super) fn present(&mut self, primitives: &[egui::ClippedPrimitive], ppp: f32) {
+        let Some(gfx) = self.gfx.as_mut() else {
+            return;
+        };
+        let size = gfx.size();
+        let Some(frame) = gfx.acquire() else {
+            return;
+        };
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [size.0, size.1],
+            pixels_per_point: ppp,
+        };
+        let ui = FrameUi {
+            primitives,
+            screen: &screen,
+        };
+        let target = frame.texture.create_view(&Default::default());
+        self.draw(&target, &ui);
+        if let Some(gfx) = self.gfx.as_mut() {
+            gfx.gpu.queue.present(frame);
+            gfx.refresh();
+        }
+        self.stats.frames += 1;
+        self.after_present(&ui);
+    }
+
+    /// Draws the scene and the panel into `target` (the surface, or a capture of it).
+    fn draw(&mut self, target: &wgpu::TextureView, ui: &FrameUi<'_>) {
+        let Some(gfx) = self.gfx.as_mut() else {
+            return;
+        };
+        let lanes = self.session.draw_lanes();
+        let bounds = self.session.bounds();
+        // While commands wait for the next tick (paused), the launcher shows the panel's aim.
+        let waiting = self.session.lanes().iter().any(|l| l.pending() > 0);
+        let aim = waiting.then(|| crate::scene::Launcher {
+            speed: self.panel.speed,
+            elevation_deg: self.panel.elevation_deg,
+            azimuth_deg: self.panel.azimuth_deg,
+            ..*self.session.world().launcher()
+        });
+        let options = DrawOptions {
+            origin: bounds.center(),
+            scale: bounds.radius(),
+            trails: self.toggles.trails,
+            ghosts: self.toggles.ghosts,
+            aim,
+        };
+        let view = View {
+            camera: self.camera,
+            viewport: self.viewport,
+            target_size: gfx.size(),
+        };
+        gfx.renderer.prepare(&gfx.gpu, &lanes, &view, &options);
+        let device = &gfx.gpu.device;
+        let mut encoder = device.create_command_encoder(&Default::default());
+        gfx.renderer.encode(&mut encoder, target);
+        let extra = gfx.egui.update_buffers(
+            device,
+            &gfx.gpu.queue,
+            &mut encoder,
+            ui.primitives,
+            ui.screen,
+        );
+        {
+            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("panel"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: target,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            gfx.egui
+                .render(&mut pass.forget_lifetime(), ui.primitives, ui.screen);
+        }
+        gfx.gpu
+            .queue
+            .submit(extra.into_iter().chain([encoder.finish()]));
+    }
+
+    /// Screenshots and the frame limit, after a frame was presented.
+    fn after_present(&mut self, ui: &FrameUi<'_>) {
+        let done = self
+            .options
+            .exit_after_frames
+            .is_some_and(|n| self.stats.frames >= n);
+        let path = match (self.screenshot.take(), done) {
+            (Some(p), _) => Some(p),
+            (None, true) => self.options.screenshot.clone(),
+            (None, false) => None,
+        };
+        if let Some(path) = path
+            && let Err(e) = self.capture(&path, ui)
+        {
+            self.outcome = Err(AppError::Io(e));
+            self.quit = true;
+        }
+        if done {
+            self.quit = true;
+        }
+    }
+
+    /// Draws the frame again into an offscreen texture of the surface's size and format, through
+    /// the same [`App::draw`], and writes it as a PNG.
+    fn capture(&mut self, path: &Path, ui: &FrameUi<'_>) -> Result<(), String> {
+        let Some(gfx) = self.gfx.as_ref() else {
+            return Ok(());
+        };
+        let target = OffscreenTarget::new(&gfx.gpu, gfx.size(), gfx.format());
+        self.draw(target.view(), ui);
+        let Some(gfx) = self.gfx.as_ref() else {
+            return Ok(());
+        };
+        let image: Image = target.read(&gfx.gpu).map_err(|e| e.to_string())?;
+        image.save_png(path).map_err(|e| e.to_string())
+    }
+}
+
+/// The panel's share of a frame, for drawing it (again, for a capture).
+pub(super) struct FrameUi<'a> {
+    primitives: &'a [egui::ClippedPrimitive],
+    screen: &'a egui_wgpu::ScreenDescriptor,
+}
+
+/// The 3D viewport in physical pixels: egui's remaining rectangle (points) times the scale,
+/// clamped to the surface.
+pub(super) fn viewport_of(rest: egui::Rect, ppp: f32, size: (u32, u32)) -> Viewport {
+    let (w, h) = (size.0 as f32, size.1 as f32);
+    if !rest.is_positive() {
+        return Viewport::full(size.0, size.1);
+    }
+    let x = (rest.min.x * ppp).clamp(0.0, w).round();
+    let y = (rest.min.y * ppp).clamp(0.0, h).round();
+    Viewport {
+        x,
+        y,
+        width: ((rest.max.x * ppp).clamp(0.0, w).round() - x).max(0.0),
+        height: ((rest.max.y * ppp).clamp(0.0, h).round() - y).max(0.0),
+    }
+}

@@ -1,0 +1,159 @@
+//! What the user can ask for, from the keyboard or the panel, and the keyboard shortcuts.
+//!
+//! Keys and panel widgets both produce [`Action`]s; the window applies them in one place
+//! ([`crate::app`]), where the ones that change a simulation become [`crate::Command`]s.
+
+use std::path::PathBuf;
+
+use winit::keyboard::{Key, NamedKey};
+
+use crate::integrate::Integrator;
+
+/// One request from the user.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action {
+    /// Pause if running, resume if paused.
+    TogglePause,
+    /// Pause and run exactly one tick.
+    Step,
+    /// Set the time scale (sim seconds per real second).
+    SetTimeScale(f64),
+    /// Multiply the time scale.
+    ScaleTime(f64),
+    /// Set the timestep (s): restarts at tick 0.
+    SetDt(f64),
+    /// Multiply the timestep: restarts at tick 0.
+    ScaleDt(f64),
+    /// Switch the integrator (outside compare mode).
+    SetIntegrator(Integrator),
+    /// Change the launcher; `None` keeps a value.
+    Launch {
+        /// Speed (m/s).
+        speed: Option<f64>,
+        /// Elevation (degrees).
+        elevation_deg: Option<f64>,
+        /// Azimuth (degrees).
+        azimuth_deg: Option<f64>,
+    },
+    /// Change the launcher by these amounts (m/s, degrees, degrees).
+    NudgeLaunch(f64, f64, f64),
+    /// Fire a projectile from the launcher.
+    Fire,
+    /// Put the bodies back (a restart at tick 0 if a lane diverged).
+    Reset,
+    /// Load another scene file.
+    PickScene(PathBuf),
+    /// Compare mode with these integrators (empty: off).
+    SetCompare(Vec<Integrator>),
+    /// Compare mode on (with the default set) or off.
+    ToggleCompare,
+    /// Show or hide trails.
+    ToggleTrails,
+    /// Show or hide the closed-form ghosts.
+    ToggleGhosts,
+    /// Show or hide the panel.
+    TogglePanel,
+    /// Point the camera at the whole scene again.
+    FrameScene,
+    /// Save the window's next frame as a PNG in the working directory.
+    Screenshot,
+    /// Close the window.
+    Quit,
+}
+
+/// The integrators compare mode starts with: the engines' choice, its second-order sibling, the
+/// textbook baseline and the high-order one.
+pub const DEFAULT_COMPARE: [Integrator; 4] = [
+    Integrator::ExplicitEuler,
+    Integrator::SemiImplicitEuler,
+    Integrator::VelocityVerlet,
+    Integrator::Rk4,
+];
+
+/// Every keyboard shortcut, as (keys, what they do): listed in the panel and the README.
+pub const SHORTCUTS: [(&str, &str); 15] = [
+    ("Space", "pause / resume"),
+    ("N or .", "single step (pauses)"),
+    ("F", "fire"),
+    ("R", "reset (restart at tick 0 after a divergence)"),
+    (
+        "1 to 7",
+        "integrator: explicit Euler, semi-implicit Euler, Verlet, midpoint, RK4, implicit Euler, exact",
+    ),
+    ("[ and ]", "time scale / 2, x 2"),
+    ("- and =", "dt / 2, x 2 (restarts at tick 0)"),
+    ("Up / Down", "elevation +- 1 degree"),
+    ("Left / Right", "azimuth +- 1 degree"),
+    ("PgUp / PgDn", "launch speed +- 1 m/s"),
+    ("C", "compare mode on / off"),
+    ("T and G", "trails, ghosts on / off"),
+    ("H or F1", "panel on / off"),
+    ("Home", "frame the scene"),
+    ("P / Esc", "screenshot to ./volley-tickN.png / quit"),
+];
+
+/// Mouse controls, listed with the shortcuts.
+pub const MOUSE: [(&str, &str); 3] = [
+    ("left drag", "orbit"),
+    ("right or middle drag, shift + left drag", "pan"),
+    ("wheel", "zoom"),
+];
+
+/// The action a key press asks for, if any.
+pub fn action_for_key(key: &Key) -> Option<Action> {
+    use Action as A;
+    Some(match key {
+        Key::Named(named) => match named {
+            NamedKey::Space => A::TogglePause,
+            NamedKey::ArrowUp => A::NudgeLaunch(0.0, 1.0, 0.0),
+            NamedKey::ArrowDown => A::NudgeLaunch(0.0, -1.0, 0.0),
+            NamedKey::ArrowLeft => A::NudgeLaunch(0.0, 0.0, 1.0),
+            NamedKey::ArrowRight => A::NudgeLaunch(0.0, 0.0, -1.0),
+            NamedKey::PageUp => A::NudgeLaunch(1.0, 0.0, 0.0),
+            NamedKey::PageDown => A::NudgeLaunch(-1.0, 0.0, 0.0),
+            NamedKey::Home => A::FrameScene,
+            NamedKey::F1 => A::TogglePanel,
+            NamedKey::Escape => A::Quit,
+            _ => return None,
+        },
+        Key::Character(text) => match text.to_lowercase().as_str() {
+            "n" | "." => A::Step,
+            "f" => A::Fire,
+            "r" => A::Reset,
+            "[" => A::ScaleTime(0.5),
+            "]" => A::ScaleTime(2.0),
+            "-" => A::ScaleDt(0.5),
+            "=" | "+" => A::ScaleDt(2.0),
+            "c" => A::ToggleCompare,
+            "t" => A::ToggleTrails,
+            "g" => A::ToggleGhosts,
+            "h" => A::TogglePanel,
+            "p" => A::Screenshot,
+            digit => {
+                let k = digit.parse::<usize>().ok()?;
+                A::SetIntegrator(*Integrator::ALL.get(k.checked_sub(1)?)?)
+            }
+        },
+        _ => return None,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn digit_keys_pick_integrators_in_table_order() {
+        let key = |s: &str| Key::Character(s.into());
+        assert_eq!(
+            action_for_key(&key("1")),
+            Some(Action::SetIntegrator(Integrator::ExplicitEuler))
+        );
+        assert_eq!(
+            action_for_key(&key("7")),
+            Some(Action::SetIntegrator(Integrator::Exact))
+        );
+        assert_eq!(action_for_key(&key("8")), None);
+        assert_eq!(action_for_key(&key("0")), None);
+    }
+}

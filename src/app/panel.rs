@@ -1,0 +1,431 @@
+//! The side panel (egui): the loop's state, the numerical error, and every control.
+//!
+//! The panel only reads the session; what the user asks for comes back as [`Action`]s.
+
+use std::path::PathBuf;
+
+use egui::{Color32, RichText, Ui};
+
+use crate::app::input::{Action, DEFAULT_COMPARE, MOUSE, SHORTCUTS};
+use crate::app::session::Session;
+use crate::integrate::Integrator;
+use crate::render::BodyError;
+use crate::render::reference::ReferenceEnd;
+
+/// Bodies listed in the error table.
+const ERROR_ROWS: usize = 8;
+/// Bodies the "largest error" line looks at (the first ones, so the cost stays bounded).
+const ERROR_SCAN: usize = 4096;
+
+/// What the panel remembers between frames: its widgets' values and the window's notes.
+#[derive(Clone, Debug)]
+pub struct PanelState {
+    /// Launch speed (m/s) as the slider shows it.
+    pub speed: f64,
+    /// Elevation (degrees).
+    pub elevation_deg: f64,
+    /// Azimuth (degrees).
+    pub azimuth_deg: f64,
+    /// The timestep being edited (ms).
+    pub dt_ms: f64,
+    /// The integrators ticked for compare mode.
+    pub compare_pick: Vec<Integrator>,
+    /// A note on the scene file: watched, reloaded, or why a reload failed.
+    pub file_note: Option<(String, bool)>,
+    /// Bundled scenes, (name, path).
+    pub scenes: Vec<(String, PathBuf)>,
+}
+
+impl PanelState {
+    /// Widget values taken from the session.
+    pub fn new(session: &Session, scenes: Vec<(String, PathBuf)>) -> PanelState {
+        let mut state = PanelState {
+            speed: 0.0,
+            elevation_deg: 0.0,
+            azimuth_deg: 0.0,
+            dt_ms: 0.0,
+            compare_pick: DEFAULT_COMPARE.to_vec(),
+            file_note: None,
+            scenes,
+        };
+        state.sync(session);
+        state
+    }
+
+    /// Takes the launcher and dt from the session (after a restart or a keyboard change).
+    pub fn sync(&mut self, session: &Session) {
+        let l = session.world().launcher();
+        self.speed = l.speed;
+        self.elevation_deg = l.elevation_deg;
+        self.azimuth_deg = l.azimuth_deg;
+        self.dt_ms = session.scene().dt() * 1e3;
+    }
+}
+
+/// Frame timing and display facts for the panel.
+#[derive(Clone, Debug, Default)]
+pub struct FrameStats {
+    /// Time between frames (ms), smoothed.
+    pub interval_ms: f64,
+    /// Time spent on a frame: stepping, building, encoding, presenting (ms), smoothed.
+    pub work_ms: f64,
+    /// Frames drawn.
+    pub frames: u64,
+    /// The adapter.
+    pub adapter: String,
+    /// Window size (physical px) and scale factor.
+    pub size: (u32, u32),
+    /// Pixels per point.
+    pub scale: f64,
+}
+
+fn colour(c: [u8; 4]) -> Color32 {
+    Color32::from_rgb(c[0], c[1], c[2])
+}
+
+/// Draws the panel's contents.
+pub fn show(
+    ui: &mut Ui,
+    state: &mut PanelState,
+    session: &Session,
+    stats: &FrameStats,
+    out: &mut Vec<Action>,
+) {
+    egui::ScrollArea::vertical().show(ui, |ui| {
+        header(ui, state, session, out);
+        ui.separator();
+        clock(ui, state, session, out);
+        ui.separator();
+        simulation(ui, state, session, out);
+        ui.separator();
+        compare(ui, state, session, out);
+        ui.separator();
+        errors(ui, session);
+        ui.separator();
+        frame(ui, stats, out);
+        egui::CollapsingHeader::new("Keyboard and mouse")
+            .default_open(false)
+            .show(ui, |ui| {
+                egui::Grid::new("keys").striped(true).show(ui, |ui| {
+                    for (keys, what) in SHORTCUTS.iter().chain(MOUSE.iter()) {
+                        ui.monospace(*keys);
+                        ui.label(*what);
+                        ui.end_row();
+                    }
+                });
+            });
+    });
+}
+
+fn header(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<Action>) {
+    let scene = session.scene();
+    ui.heading(format!("Volley: {}", scene.name));
+    if !scene.description.is_empty() {
+        ui.label(&scene.description);
+    }
+    ui.small(session.path().display().to_string());
+    if let Some((note, ok)) = &state.file_note {
+        let c = if *ok {
+            Color32::LIGHT_GREEN
+        } else {
+            Color32::LIGHT_RED
+        };
+        ui.colored_label(c, note);
+    }
+    let current = session.path().to_path_buf();
+    egui::ComboBox::from_label("scene")
+        .selected_text(scene.name.clone())
+        .show_ui(ui, |ui| {
+            for (name, path) in &state.scenes {
+                if ui.selectable_label(*path == current, name).clicked() {
+                    out.push(Action::PickScene(path.clone()));
+                }
+            }
+        });
+    if let Some(e) = &session.last_error {
+        ui.colored_label(Color32::LIGHT_RED, e);
+    }
+}
+
+fn clock(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<Action>) {
+    let world = session.world();
+    let last = session.last_frame();
+    let lane = &session.lanes()[0];
+    egui::Grid::new("clock").num_columns(2).show(ui, |ui| {
+        let mut row = |k: &str, v: String| {
+            ui.label(k);
+            ui.monospace(v);
+            ui.end_row();
+        };
+        row("tick", world.tick().to_string());
+        row("sim time", format!("{:.6} s", world.time()));
+        row("dt", format!("{:.6} ms", world.dt() * 1e3));
+        row("steps this frame", last.steps.to_string());
+        row("alpha", format!("{:.3}", last.alpha));
+        row(
+            "dropped",
+            format!(
+                "{:.1} ms this frame, {:.3} s in all",
+                last.dropped.as_secs_f64() * 1e3,
+                lane.sim.clock.dropped().as_secs_f64()
+            ),
+        );
+        let integrator = if session.is_comparing() {
+            format!("{} compared (legend below)", session.lanes().len())
+        } else {
+            world.integrator().to_string()
+        };
+        row("integrator", integrator);
+        row("bodies", world.bodies().len().to_string());
+    });
+    ui.horizontal(|ui| {
+        let label = if session.is_paused() {
+            "Resume"
+        } else {
+            "Pause"
+        };
+        if ui.button(label).clicked() {
+            out.push(Action::TogglePause);
+        }
+        if ui.button("Step").clicked() {
+            out.push(Action::Step);
+        }
+        let pending = lane.pending();
+        if pending > 0 {
+            ui.weak(format!("{pending} command(s) wait for the next tick"));
+        }
+    });
+    let mut scale = session.time_scale();
+    let slider = egui::Slider::new(&mut scale, 0.01..=100.0)
+        .logarithmic(true)
+        .text("time scale");
+    if ui.add(slider).changed() {
+        out.push(Action::SetTimeScale(scale));
+    }
+    ui.horizontal(|ui| {
+        ui.add(
+            egui::DragValue::new(&mut state.dt_ms)
+                .speed(0.1)
+                .range(0.001..=10_000.0)
+                .suffix(" ms"),
+        );
+        if ui.button("Apply dt").clicked() {
+            out.push(Action::SetDt(state.dt_ms * 1e-3));
+        }
+    });
+    ui.weak(
+        "Changing dt restarts the scene at tick 0 with the new step, so sim time stays tick x dt.",
+    );
+}
+
+fn simulation(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<Action>) {
+    let world = session.world();
+    let current = world.integrator();
+    ui.add_enabled_ui(!session.is_comparing(), |ui| {
+        egui::ComboBox::from_label("integrator")
+            .selected_text(current.name())
+            .show_ui(ui, |ui| {
+                for i in Integrator::ALL {
+                    let allowed = crate::scene::check_integrator(i, world.forces()).is_ok();
+                    let clicked = ui
+                        .add_enabled(allowed, egui::Button::selectable(i == current, i.name()))
+                        .clicked();
+                    if clicked {
+                        out.push(Action::SetIntegrator(i));
+                    }
+                }
+            });
+    });
+    let info = current.info();
+    ui.weak(format!(
+        "order {}, {}",
+        if info.order == u32::MAX {
+            "exact".to_string()
+        } else {
+            info.order.to_string()
+        },
+        if info.symplectic {
+            "symplectic"
+        } else {
+            "not symplectic"
+        }
+    ));
+    let launch = |ui: &mut Ui, value: &mut f64, range, text: &str, suffix: &str| {
+        let slider = egui::Slider::new(value, range).text(text).suffix(suffix);
+        ui.add(slider).changed()
+    };
+    let s = launch(ui, &mut state.speed, 0.0..=200.0, "speed", " m/s");
+    let e = launch(
+        ui,
+        &mut state.elevation_deg,
+        -90.0..=90.0,
+        "elevation",
+        " deg",
+    );
+    let a = launch(
+        ui,
+        &mut state.azimuth_deg,
+        -180.0..=180.0,
+        "azimuth",
+        " deg",
+    );
+    if s || e || a {
+        out.push(Action::Launch {
+            speed: s.then_some(state.speed),
+            elevation_deg: e.then_some(state.elevation_deg),
+            azimuth_deg: a.then_some(state.azimuth_deg),
+        });
+    }
+    ui.horizontal(|ui| {
+        if ui.button("Fire").clicked() {
+            out.push(Action::Fire);
+        }
+        if ui.button("Reset").clicked() {
+            out.push(Action::Reset);
+        }
+    });
+}
+
+fn compare(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<Action>) {
+    let mut on = session.is_comparing();
+    if ui.checkbox(&mut on, "Compare integrators").changed() {
+        out.push(Action::SetCompare(if on {
+            state.compare_pick.clone()
+        } else {
+            Vec::new()
+        }));
+    }
+    ui.horizontal_wrapped(|ui| {
+        for i in Integrator::ALL {
+            let mut picked = state.compare_pick.contains(&i);
+            let text = RichText::new(i.name()).color(colour(crate::render::integrator_colour(i)));
+            if ui.checkbox(&mut picked, text).changed() {
+                state.compare_pick.retain(|&j| j != i);
+                if picked {
+                    state.compare_pick.push(i);
+                    state.compare_pick.sort();
+                }
+                if on {
+                    out.push(Action::SetCompare(state.compare_pick.clone()));
+                }
+            }
+        }
+    });
+    if !on {
+        return;
+    }
+    egui::Grid::new("legend").striped(true).show(ui, |ui| {
+        ui.strong("integrator");
+        ui.strong("|dp| body 0");
+        ui.strong("max |dp|");
+        ui.end_row();
+        for lane in session.lanes() {
+            ui.colored_label(colour(lane.colour()), lane.sim.world.integrator().name());
+            match &lane.stopped {
+                Some(why) => {
+                    ui.colored_label(Color32::LIGHT_RED, "diverged")
+                        .on_hover_text(why);
+                    ui.label("");
+                }
+                None => {
+                    let first = (!lane.sim.world.bodies().is_empty())
+                        .then(|| lane.history.references.error(&lane.sim.world, 0));
+                    ui.monospace(first.map_or("-".into(), |e| short(&e)));
+                    ui.monospace(max_error(lane).map_or("-".into(), |m| format!("{m:.3e} m")));
+                }
+            }
+            ui.end_row();
+        }
+    });
+}
+
+/// Largest position error over the first bodies of a lane, if any body has one.
+fn max_error(lane: &crate::app::session::Lane) -> Option<f64> {
+    let world = &lane.sim.world;
+    (0..world.bodies().len().min(ERROR_SCAN))
+        .filter_map(|i| match lane.history.references.error(world, i) {
+            BodyError::Measured { position, .. } => Some(position),
+            _ => None,
+        })
+        .reduce(f64::max)
+}
+
+fn short(e: &BodyError) -> String {
+    match e {
+        BodyError::Measured { position, .. } => format!("{position:.3e} m"),
+        BodyError::NoClosedForm => "no closed form".into(),
+        BodyError::Ended(ReferenceEnd::Contact { time, .. }) => format!("contact at {time:.3} s"),
+        BodyError::Ended(ReferenceEnd::ForcesChanged { tick }) => {
+            format!("forces changed at tick {tick}")
+        }
+        BodyError::Unknown => "-".into(),
+    }
+}
+
+fn errors(ui: &mut Ui, session: &Session) {
+    let lane = &session.lanes()[0];
+    let world = &lane.sim.world;
+    ui.strong("Error against the closed form");
+    if let Some(why) = &lane.stopped {
+        ui.colored_label(Color32::LIGHT_RED, why);
+    }
+    egui::Grid::new("errors").striped(true).show(ui, |ui| {
+        ui.strong("body");
+        ui.strong("|p - p_exact|");
+        ui.strong("|v - v_exact|");
+        ui.end_row();
+        for i in 0..world.bodies().len().min(ERROR_ROWS) {
+            ui.monospace(world.bodies().ids()[i].to_string());
+            match lane.history.references.error(world, i) {
+                BodyError::Measured { position, velocity } => {
+                    ui.monospace(format!("{position:.4e} m"));
+                    ui.monospace(format!("{velocity:.4e} m/s"));
+                }
+                other => {
+                    ui.weak(short(&other));
+                    ui.label("");
+                }
+            }
+            ui.end_row();
+        }
+    });
+    let n = world.bodies().len();
+    if n > ERROR_ROWS {
+        let scanned = n.min(ERROR_SCAN);
+        let max = max_error(lane).map_or("-".into(), |m| format!("{m:.4e} m"));
+        ui.weak(format!(
+            "largest |p - p_exact| over the first {scanned} of {n} bodies: {max}"
+        ));
+    }
+    ui.weak("The closed form has no contacts: a body's reference ends at its first impact.");
+}
+
+fn frame(ui: &mut Ui, stats: &FrameStats, out: &mut Vec<Action>) {
+    let fps = if stats.interval_ms > 0.0 {
+        1e3 / stats.interval_ms
+    } else {
+        0.0
+    };
+    ui.monospace(format!(
+        "frame {:.2} ms ({fps:.0} fps), work {:.2} ms",
+        stats.interval_ms, stats.work_ms
+    ));
+    ui.small(format!(
+        "{} x {} px at {:.2} px/pt, {}",
+        stats.size.0, stats.size.1, stats.scale, stats.adapter
+    ));
+    ui.horizontal(|ui| {
+        if ui.button("Trails").clicked() {
+            out.push(Action::ToggleTrails);
+        }
+        if ui.button("Ghosts").clicked() {
+            out.push(Action::ToggleGhosts);
+        }
+        if ui.button("Frame scene").clicked() {
+            out.push(Action::FrameScene);
+        }
+        if ui.button("Screenshot").clicked() {
+            out.push(Action::Screenshot);
+        }
+    });
+}

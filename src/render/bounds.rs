@@ -1,0 +1,88 @@
+//! The region a scene plays in: what the default camera frames and where the render origin is.
+
+use glam::DVec3;
+
+use crate::command::Command;
+use crate::scene::Scene;
+use crate::world::World;
+
+/// Bodies a preview run follows: enough to see the spread of a volley, cheap for any scene.
+const PREVIEW_BODIES: u32 = 64;
+/// Most ticks a preview run steps.
+const PREVIEW_TICKS: u64 = 4000;
+/// Largest extent framed (m): a diverging preview must not zoom the camera out to infinity.
+const MAX_EXTENT: f64 = 1e4;
+
+/// An axis-aligned box (m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneBounds {
+    /// Lowest corner.
+    pub min: DVec3,
+    /// Highest corner.
+    pub max: DVec3,
+}
+
+impl SceneBounds {
+    /// A box holding only `p`.
+    pub fn point(p: DVec3) -> SceneBounds {
+        SceneBounds { min: p, max: p }
+    }
+
+    /// Grows the box to hold `p` (non-finite points are ignored).
+    pub fn include(&mut self, p: DVec3) {
+        if p.is_finite() {
+            self.min = self.min.min(p);
+            self.max = self.max.max(p);
+        }
+    }
+
+    /// Centre of the box: the render origin and the camera's default target.
+    pub fn center(&self) -> DVec3 {
+        0.5 * (self.min + self.max)
+    }
+
+    /// Half the diagonal (m).
+    pub fn radius(&self) -> f64 {
+        0.5 * (self.max - self.min).length()
+    }
+
+    /// The launcher, the scene's bodies and targets, and where the first bodies and one shot
+    /// from the launcher go over the scene's duration: a short preview run of the scene with at
+    /// most 64 bodies, stopped at the ground, a divergence, or 4000 ticks.
+    pub fn of_scene(scene: &Scene) -> SceneBounds {
+        let launcher = scene.launcher.position;
+        let mut bounds = SceneBounds::point(launcher);
+        for t in &scene.targets {
+            bounds.include(t.center - DVec3::splat(t.radius));
+            bounds.include(t.center + DVec3::splat(t.radius));
+        }
+        for w in &scene.walls {
+            bounds.include(w.point);
+        }
+        let mut preview = scene.clone();
+        preview.bodies.truncate(PREVIEW_BODIES as usize);
+        if let Some(v) = preview.volley.as_mut() {
+            v.count = v.count.min(PREVIEW_BODIES);
+        }
+        let mut world = World::new(&preview);
+        let _ = world.apply(&Command::Fire);
+        let ticks = preview.ticks_until(preview.start_time + preview.duration);
+        for _ in 0..=ticks.min(PREVIEW_TICKS) {
+            let b = world.bodies();
+            for i in 0..b.len() {
+                let p = b.positions().get(i);
+                if (p - launcher).abs().max_element() <= MAX_EXTENT {
+                    bounds.include(p);
+                }
+            }
+            if world.step().is_err() {
+                break;
+            }
+        }
+        if let Some(g) = scene.ground {
+            bounds.min.z = bounds.min.z.max(g.height);
+            bounds.include(DVec3::new(bounds.min.x, bounds.min.y, g.height));
+        }
+        bounds
+    }
+}

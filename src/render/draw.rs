@@ -1,0 +1,360 @@
+//! The draw list: everything one frame shows, as flat arrays ready for the GPU.
+//!
+//! Built on the CPU from the worlds being shown (one per integrator in compare mode), their
+//! [`TickHistory`] and the loop's alpha; the renderer uploads it into buffers it keeps. Positions
+//! are converted to `f32` relative to the render origin here and nowhere else. Colours are sRGB
+//! bytes; the shaders convert them to linear light.
+
+use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
+
+use crate::integrate::Integrator;
+use crate::render::history::TickHistory;
+use crate::scene::Launcher;
+use crate::world::World;
+
+/// An sRGB colour with alpha, 0-255 each.
+pub type Rgba = [u8; 4];
+
+/// Colour of the closed-form ghosts (trajectory and sphere).
+pub const GHOST: Rgba = [235, 235, 250, 140];
+/// Colour of target spheres.
+pub const TARGET: Rgba = [255, 150, 40, 90];
+/// Colour of wall slabs.
+pub const WALL: Rgba = [120, 170, 255, 70];
+/// Colour of the launcher and its predicted shot.
+pub const LAUNCHER: Rgba = [210, 210, 220, 255];
+/// Bodies shown with a ghost (the first ones in id order): a closed form per body per frame is
+/// cheap, but a thousand dashed arcs only hide the bodies.
+pub const GHOST_BODIES: usize = 16;
+
+/// The colour an integrator is drawn in, everywhere (bodies, trails, legend).
+pub fn integrator_colour(integrator: Integrator) -> Rgba {
+    match integrator {
+        Integrator::ExplicitEuler => [235, 85, 75, 255],
+        Integrator::SemiImplicitEuler => [245, 170, 50, 255],
+        Integrator::VelocityVerlet => [90, 200, 100, 255],
+        Integrator::Midpoint => [180, 120, 230, 255],
+        Integrator::Rk4 => [80, 160, 245, 255],
+        Integrator::ImplicitEuler => [60, 205, 200, 255],
+        Integrator::Exact => [240, 240, 240, 255],
+    }
+}
+
+/// One sphere: centre relative to the render origin (m), radius (m), colour.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct SphereInstance {
+    /// Centre (m, relative to the render origin).
+    pub center: [f32; 3],
+    /// Radius (m).
+    pub radius: f32,
+    /// sRGB colour.
+    pub colour: Rgba,
+}
+
+/// A vertex of a line or a translucent surface.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ColouredVertex {
+    /// Position (m, relative to the render origin).
+    pub position: [f32; 3],
+    /// sRGB colour.
+    pub colour: Rgba,
+}
+
+/// One world to draw.
+#[derive(Clone, Copy)]
+pub struct Lane<'a> {
+    /// The world.
+    pub world: &'a World,
+    /// Its previous state, trails and references.
+    pub history: &'a TickHistory,
+    /// The loop's alpha: how far from the previous tick towards the current one to draw.
+    pub alpha: f64,
+    /// Colour of its bodies and trails.
+    pub colour: Rgba,
+}
+
+/// What to draw besides the bodies.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrawOptions {
+    /// Positions are drawn relative to this point (m).
+    pub origin: DVec3,
+    /// Size of the scene (m): scales the launcher's barrel.
+    pub scale: f64,
+    /// Trails behind the bodies.
+    pub trails: bool,
+    /// Closed-form ghosts (trajectory and sphere) of the first lane's first bodies.
+    pub ghosts: bool,
+    /// Draw the launcher with this aim instead of the world's: the aim of a `launch` command
+    /// still queued (while paused), which the next `fire` will use.
+    pub aim: Option<Launcher>,
+}
+
+/// The arrays of one frame; kept between frames so their allocations are reused.
+#[derive(Clone, Debug, Default)]
+pub struct DrawList {
+    /// Solid spheres: bodies and the launcher.
+    pub solid: Vec<SphereInstance>,
+    /// Translucent spheres: ghosts and targets.
+    pub translucent: Vec<SphereInstance>,
+    /// Line-list vertices: ghost trajectories, the launcher's barrel and predicted shot, wall
+    /// outlines.
+    pub lines: Vec<ColouredVertex>,
+    /// Triangle-list vertices of translucent surfaces (walls).
+    pub surfaces: Vec<ColouredVertex>,
+    scratch: Vec<DVec3>,
+}
+
+fn rel(p: DVec3, origin: DVec3) -> [f32; 3] {
+    (p - origin).as_vec3().to_array()
+}
+
+impl DrawList {
+    /// Rebuilds the list for `lanes` (the scene's fixed parts come from the first lane).
+    pub fn build(&mut self, lanes: &[Lane<'_>], options: &DrawOptions) {
+        self.solid.clear();
+        self.translucent.clear();
+        self.lines.clear();
+        self.surfaces.clear();
+        let Some(first) = lanes.first() else {
+            return;
+        };
+        self.scene_parts(first.world, options);
+        for lane in lanes {
+            let bodies = lane.world.bodies();
+            let radii = bodies.radii();
+            let solid = &mut self.solid;
+            solid.reserve(bodies.len());
+            lane.history.interpolate(lane.world, lane.alpha, |i, p| {
+                solid.push(SphereInstance {
+                    center: rel(p, options.origin),
+                    radius: radii[i] as f32,
+                    colour: lane.colour,
+                });
+            });
+        }
+        if options.ghosts {
+            self.ghosts(first, options);
+        }
+    }
+
+    fn scene_parts(&mut self, world: &World, options: &DrawOptions) {
+        let o = options.origin;
+        for t in &world.contacts().targets {
+            self.translucent.push(SphereInstance {
+                center: rel(t.center, o),
+                radius: t.radius as f32,
+                colour: TARGET,
+            });
+        }
+        for w in &world.contacts().walls {
+            self.wall(w.point, w.normal, w.thickness, world, options);
+        }
+        let l = options.aim.unwrap_or(*world.launcher());
+        self.solid.push(SphereInstance {
+            center: rel(l.position, o),
+            radius: (2.0 * l.radius).max(0.01 * options.scale) as f32,
+            colour: LAUNCHER,
+        });
+        let dir = l.velocity().try_normalize().unwrap_or(DVec3::Z);
+        self.line(
+            l.position,
+            l.position + 0.06 * options.scale * dir,
+            LAUNCHER,
+            o,
+        );
+        self.launcher_shot(world, options);
+    }
+
+    /// The closed-form path of the next shot from the launcher, dashed, where one exists.
+    fn launcher_shot(&mut self, world: &World, options: &DrawOptions) {
+        let l = options.aim.unwrap_or(*world.launcher());
+        let shot = crate::render::reference::Reference {
+            id: crate::world::BodyId(u64::MAX),
+            spawn_tick: world.tick(),
+            spawn_time: world.time(),
+            state: crate::integrate::BodyState {
+                p: l.position,
+                mv: l.mass * l.velocity(),
+            },
+            mass: l.mass,
+            forces: *world.forces(),
+            has_closed_form: true,
+            end: None,
+        };
+        let floor = world.contacts().ground.map(|g| g.height);
+        let mut points = std::mem::take(&mut self.scratch);
+        shot.trajectory(horizon(world), world.dt(), floor, &mut points);
+        let mut faint = LAUNCHER;
+        faint[3] = 90;
+        self.dashed(&points, faint, options.origin);
+        self.scratch = points;
+    }
+
+    fn ghosts(&mut self, lane: &Lane<'_>, options: &DrawOptions) {
+        let world = lane.world;
+        let dt = world.dt();
+        let floor = world.contacts().ground.map(|g| g.height);
+        let drawn = lane.history.drawn_ticks(world, lane.alpha);
+        let mut points = std::mem::take(&mut self.scratch);
+        let bodies = world.bodies();
+        for &id in bodies.ids().iter().take(GHOST_BODIES) {
+            let Some(r) = lane.history.references.get(id) else {
+                continue;
+            };
+            if !r.has_closed_form {
+                continue;
+            }
+            r.trajectory(horizon(world), dt, floor, &mut points);
+            self.dashed(&points, GHOST, options.origin);
+            let t = (drawn - r.spawn_tick as f64).max(0.0) * dt;
+            let ended = r.ends_after(dt).is_some_and(|end| t > end);
+            if let (false, Some(s)) = (ended, r.exact_at(t)) {
+                let i = bodies.index_of(id).unwrap_or(0);
+                self.translucent.push(SphereInstance {
+                    center: rel(s.p, options.origin),
+                    radius: bodies.radii()[i] as f32,
+                    colour: GHOST,
+                });
+            }
+        }
+        self.scratch = points;
+    }
+
+    fn line(&mut self, a: DVec3, b: DVec3, colour: Rgba, origin: DVec3) {
+        for p in [a, b] {
+            self.lines.push(ColouredVertex {
+                position: rel(p, origin),
+                colour,
+            });
+        }
+    }
+
+    /// Every other segment of a polyline: a dashed line.
+    fn dashed(&mut self, points: &[DVec3], colour: Rgba, origin: DVec3) {
+        for pair in points.windows(2).step_by(2) {
+            self.line(pair[0], pair[1], colour, origin);
+        }
+    }
+
+    /// A wall as a translucent square slab around its point (both faces, with an outline), cut
+    /// off at the ground: the ground is solid, nothing of a wall shows below it.
+    fn wall(
+        &mut self,
+        point: DVec3,
+        normal: DVec3,
+        thickness: f64,
+        world: &World,
+        o: &DrawOptions,
+    ) {
+        let helper = if normal.z.abs() < 0.9 {
+            DVec3::Z
+        } else {
+            DVec3::X
+        };
+        let u = normal.cross(helper).normalize() * o.scale;
+        let v = normal.cross(u).normalize() * o.scale;
+        let floor = world.contacts().ground.map(|g| g.height);
+        for side in [-0.5, 0.5] {
+            let c = point + side * thickness * normal;
+            let square = [c - u - v, c + u - v, c + u + v, c - u + v];
+            let face = match floor {
+                Some(z) => clip_above(&square, z),
+                None => square.to_vec(),
+            };
+            for k in 1..face.len().saturating_sub(1) {
+                for p in [face[0], face[k], face[k + 1]] {
+                    self.surfaces.push(ColouredVertex {
+                        position: rel(p, o.origin),
+                        colour: WALL,
+                    });
+                }
+            }
+            for k in 0..face.len() {
+                self.line(face[k], face[(k + 1) % face.len()], WALL, o.origin);
+            }
+        }
+    }
+}
+
+/// The part of a convex polygon at or above height `z` (Sutherland-Hodgman against one plane).
+pub fn clip_above(polygon: &[DVec3], z: f64) -> Vec<DVec3> {
+    let mut out = Vec::with_capacity(polygon.len() + 1);
+    for (k, &a) in polygon.iter().enumerate() {
+        let b = polygon[(k + 1) % polygon.len()];
+        if a.z >= z {
+            out.push(a);
+        }
+        if (a.z >= z) != (b.z >= z) {
+            let t = (z - a.z) / (b.z - a.z);
+            out.push(a + t * (b - a));
+        }
+    }
+    out
+}
+
+/// How far ahead ghost trajectories reach: the scene's duration, at least 1 s.
+fn horizon(world: &World) -> f64 {
+    world.scene().duration.max(1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clipping_a_square_at_its_middle_keeps_the_upper_half() {
+        let square = [
+            DVec3::new(0.0, 0.0, -1.0),
+            DVec3::new(1.0, 0.0, -1.0),
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(0.0, 0.0, 1.0),
+        ];
+        let upper = clip_above(&square, 0.0);
+        assert_eq!(
+            upper,
+            [
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.0, 1.0),
+                DVec3::new(0.0, 0.0, 1.0),
+                DVec3::new(0.0, 0.0, 0.0),
+            ]
+        );
+        assert!(clip_above(&square, 2.0).is_empty());
+        assert_eq!(clip_above(&square, -1.0).len(), 4);
+    }
+
+    #[test]
+    fn a_queued_aim_turns_the_launcher_before_the_world_does() {
+        let text = "Scene(dt: 0.1, integrator: Rk4,
+            launcher: (position: (0, 0, 0), speed: 10, elevation_deg: 0, azimuth_deg: 0))";
+        let world = World::new(&crate::scene::parse(text, "aim.ron", "aim").unwrap());
+        let history = TickHistory::new(&world, DVec3::ZERO);
+        let lane = Lane {
+            world: &world,
+            history: &history,
+            alpha: 1.0,
+            colour: GHOST,
+        };
+        let mut options = DrawOptions {
+            origin: DVec3::ZERO,
+            scale: 100.0,
+            trails: false,
+            ghosts: false,
+            aim: None,
+        };
+        let mut list = DrawList::default();
+        list.build(&[lane], &options);
+        // The barrel is the first line: 6 m (0.06 x scale) along the launch direction.
+        assert_eq!(list.lines[1].position, [6.0, 0.0, 0.0]);
+        options.aim = Some(Launcher {
+            elevation_deg: 90.0,
+            ..*world.launcher()
+        });
+        list.build(&[lane], &options);
+        let tip = list.lines[1].position;
+        assert!(tip[0].abs() < 1e-6 && tip[2] == 6.0, "{tip:?}");
+    }
+}

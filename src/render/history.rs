@@ -1,0 +1,140 @@
+//! What drawing needs from the ticks a frame ran: the previous state to interpolate from, the
+//! trails, and each body's closed-form reference.
+//!
+//! [`TickHistory`] is a [`TickObserver`]: the loop hands it the world before the last tick of
+//! each frame ([`TickObserver::before_last_tick`]) and after every tick. The snapshot taken
+//! before the last tick is the "previous" state, so the drawn position
+//! `previous + alpha (current - previous)` stays right however many ticks one frame ran. A body
+//! that did not exist at the snapshot (spawned by a command in the last tick) has no previous
+//! position and is drawn at its current one.
+
+use glam::DVec3;
+
+use crate::command::Stamped;
+use crate::render::reference::References;
+use crate::render::trails::TrailRing;
+use crate::sim_loop::{ObserverError, TickObserver};
+use crate::world::{BodyId, World};
+
+/// Body positions at one moment, in id order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Positions {
+    ids: Vec<BodyId>,
+    positions: Vec<DVec3>,
+    tick: u64,
+}
+
+impl Positions {
+    /// Copies the world's positions, reusing this snapshot's allocation.
+    pub fn copy_from(&mut self, world: &World) {
+        let bodies = world.bodies();
+        self.ids.clear();
+        self.ids.extend_from_slice(bodies.ids());
+        self.positions.clear();
+        self.positions.extend(bodies.positions().iter());
+        self.tick = world.tick();
+    }
+
+    /// The tick the snapshot was taken at.
+    pub fn tick(&self) -> u64 {
+        self.tick
+    }
+
+    /// Number of bodies in the snapshot.
+    pub fn len(&self) -> usize {
+        self.ids.len()
+    }
+
+    /// Whether the snapshot holds no bodies.
+    pub fn is_empty(&self) -> bool {
+        self.ids.is_empty()
+    }
+}
+
+/// The previous state, trails and references of one world, fed by the loop.
+#[derive(Debug)]
+pub struct TickHistory {
+    previous: Positions,
+    /// Recent positions of each body, one sample per tick.
+    pub trails: TrailRing,
+    /// Closed-form references, one per body, recorded the first time its id is seen.
+    pub references: References,
+    commands: u64,
+}
+
+impl TickHistory {
+    /// A history starting at the world's current state; trail samples are stored relative to
+    /// `origin` (the render origin).
+    pub fn new(world: &World, origin: DVec3) -> TickHistory {
+        let mut history = TickHistory {
+            previous: Positions::default(),
+            trails: TrailRing::new(origin),
+            references: References::default(),
+            commands: 0,
+        };
+        history.previous.copy_from(world);
+        history.references.observe(world);
+        history.trails.record(world);
+        history
+    }
+
+    /// Commands the loop has applied so far.
+    pub fn commands_applied(&self) -> u64 {
+        self.commands
+    }
+
+    /// The snapshot taken before the last tick of the latest frame.
+    pub fn previous(&self) -> &Positions {
+        &self.previous
+    }
+
+    /// Calls `visit(i, position)` for every body `i` of `world` (storage order) with its drawn
+    /// position: `previous + alpha (current - previous)`, or the current position for a body
+    /// the snapshot does not hold. Ids are sorted in both, so one merge pass pairs them.
+    pub fn interpolate(&self, world: &World, alpha: f64, mut visit: impl FnMut(usize, DVec3)) {
+        let bodies = world.bodies();
+        let current = bodies.positions();
+        let prev = &self.previous;
+        let mut j = 0;
+        for (i, &id) in bodies.ids().iter().enumerate() {
+            while j < prev.ids.len() && prev.ids[j] < id {
+                j += 1;
+            }
+            let now = current.get(i);
+            let drawn = match prev.ids.get(j) {
+                Some(&p) if p == id => {
+                    let before = prev.positions[j];
+                    before + alpha * (now - before)
+                }
+                _ => now,
+            };
+            visit(i, drawn);
+        }
+    }
+
+    /// The sim time (s since tick 0) that a frame drawn at `alpha` shows: between the snapshot's
+    /// tick and the current one.
+    pub fn drawn_ticks(&self, world: &World, alpha: f64) -> f64 {
+        let (before, now) = (self.previous.tick as f64, world.tick() as f64);
+        before + alpha * (now - before)
+    }
+}
+
+impl TickObserver for TickHistory {
+    fn on_command(&mut self, world: &World, _stamped: &Stamped) -> Result<(), ObserverError> {
+        self.commands += 1;
+        self.references.observe(world);
+        Ok(())
+    }
+
+    fn before_last_tick(&mut self, world: &World) {
+        self.previous.copy_from(world);
+        self.references.observe(world);
+    }
+
+    fn after_tick(&mut self, world: &World) -> Result<(), ObserverError> {
+        self.trails.record(world);
+        self.references.after_tick(world);
+        Ok(())
+    }
+}

@@ -1,0 +1,213 @@
+//! Closed-form references: where each body would be if the integrator were exact.
+//!
+//! The first time a body's id is seen (ids are stable and increase), its spawn tick, state and
+//! mass and the active force terms are recorded. Its exact state at tick `n` is then
+//! [`crate::exact::closed_form`] over `(n - spawn_tick) h`, an integer number of ticks times the
+//! step, so the error shown is the integrator's alone. The closed form knows no contacts: a
+//! reference ends at the body's first impact (or when a force term is switched), and from then
+//! on the body shows no error and no ghost rather than a meaningless one.
+
+use glam::DVec3;
+
+use crate::contact::EventKind;
+use crate::exact::closed_form;
+use crate::forces::Forces;
+use crate::integrate::BodyState;
+use crate::world::{BodyId, World};
+
+/// Samples on a ghost trajectory.
+pub const GHOST_SAMPLES: usize = 128;
+/// Longest ghost trajectory drawn (s of sim time).
+pub const GHOST_HORIZON_S: f64 = 120.0;
+
+/// Why a reference stopped applying.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ReferenceEnd {
+    /// The body hit a surface during the step to this tick.
+    Contact {
+        /// The tick whose step had the impact.
+        tick: u64,
+        /// Sim time of the impact (s).
+        time: f64,
+    },
+    /// A force term was switched on or off at this tick.
+    ForcesChanged {
+        /// The tick the change applied at.
+        tick: u64,
+    },
+}
+
+/// One body's reference.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reference {
+    /// The body.
+    pub id: BodyId,
+    /// Tick at which it was first seen (its spawn tick).
+    pub spawn_tick: u64,
+    /// Sim time of that tick (s).
+    pub spawn_time: f64,
+    /// Its state then.
+    pub state: BodyState,
+    /// Its mass (kg).
+    pub mass: f64,
+    /// Force terms active then.
+    pub forces: Forces,
+    /// Whether the forces have a closed form at all.
+    pub has_closed_form: bool,
+    /// When the reference stopped applying, if it has.
+    pub end: Option<ReferenceEnd>,
+}
+
+/// A body's numerical error against its reference.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BodyError {
+    /// Distance (m) and speed difference (m/s) from the closed form at the current tick.
+    Measured {
+        /// `|p - p_exact|` (m).
+        position: f64,
+        /// `|v - v_exact|` (m/s).
+        velocity: f64,
+    },
+    /// The force terms have no closed form.
+    NoClosedForm,
+    /// The reference ended.
+    Ended(ReferenceEnd),
+    /// The body was never seen.
+    Unknown,
+}
+
+/// The references of every body seen, in id order.
+#[derive(Clone, Debug, Default)]
+pub struct References {
+    list: Vec<Reference>,
+    forces: Option<Forces>,
+}
+
+impl References {
+    /// Records bodies not seen before (those with ids above the last one recorded) and drops
+    /// references of bodies that are gone.
+    pub fn observe(&mut self, world: &World) {
+        self.note_forces(world);
+        let bodies = world.bodies();
+        let ids = bodies.ids();
+        if self.list.len() > ids.len() || self.list.iter().zip(ids).any(|(r, id)| r.id != *id) {
+            self.list.retain(|r| ids.binary_search(&r.id).is_ok());
+        }
+        let last = self.list.last().map(|r| r.id);
+        let first_new = ids.partition_point(|id| last.is_some_and(|l| *id <= l));
+        let forces = *world.forces();
+        for (i, &id) in ids.iter().enumerate().skip(first_new) {
+            let (state, mass) = (bodies.state(i), bodies.masses()[i]);
+            self.list.push(Reference {
+                id,
+                spawn_tick: world.tick(),
+                spawn_time: world.time(),
+                state,
+                mass,
+                forces,
+                has_closed_form: closed_form(&forces, state, mass, 0.0).is_some(),
+                end: None,
+            });
+        }
+    }
+
+    /// After a tick: impacts end their bodies' references; new bodies are recorded.
+    pub fn after_tick(&mut self, world: &World) {
+        self.observe(world);
+        for event in world.events() {
+            if let EventKind::Impact { .. } = event.kind
+                && let Ok(k) = self.list.binary_search_by_key(&event.body, |r| r.id)
+                && self.list[k].end.is_none()
+            {
+                self.list[k].end = Some(ReferenceEnd::Contact {
+                    tick: event.tick,
+                    time: event.time,
+                });
+            }
+        }
+    }
+
+    /// A change of the active force terms ends every open reference.
+    fn note_forces(&mut self, world: &World) {
+        let now = *world.forces();
+        if self.forces.is_some_and(|f| f != now) {
+            for r in self.list.iter_mut().filter(|r| r.end.is_none()) {
+                r.end = Some(ReferenceEnd::ForcesChanged { tick: world.tick() });
+            }
+        }
+        self.forces = Some(now);
+    }
+
+    /// The reference of `id`.
+    pub fn get(&self, id: BodyId) -> Option<&Reference> {
+        self.list
+            .binary_search_by_key(&id, |r| r.id)
+            .ok()
+            .map(|k| &self.list[k])
+    }
+
+    /// Every reference, in id order.
+    pub fn all(&self) -> &[Reference] {
+        &self.list
+    }
+
+    /// Error of the body at storage index `i` against its reference at the world's tick.
+    pub fn error(&self, world: &World, i: usize) -> BodyError {
+        let bodies = world.bodies();
+        let Some(r) = self.get(bodies.ids()[i]) else {
+            return BodyError::Unknown;
+        };
+        if let Some(end) = r.end {
+            return BodyError::Ended(end);
+        }
+        let ticks = world.tick().saturating_sub(r.spawn_tick) as f64;
+        match r.exact_at(ticks * world.dt()) {
+            Some(exact) => BodyError::Measured {
+                position: (bodies.state(i).p - exact.p).length(),
+                velocity: (bodies.velocity(i) - exact.mv / r.mass).length(),
+            },
+            None => BodyError::NoClosedForm,
+        }
+    }
+}
+
+impl Reference {
+    /// The exact state `t` seconds after spawn, if the forces have a closed form.
+    pub fn exact_at(&self, t: f64) -> Option<BodyState> {
+        if !self.has_closed_form {
+            return None;
+        }
+        closed_form(&self.forces, self.state, self.mass, t)
+    }
+
+    /// Seconds from spawn to the end of the reference, if it ended.
+    pub fn ends_after(&self, dt: f64) -> Option<f64> {
+        match self.end? {
+            ReferenceEnd::Contact { time, .. } => Some(time - self.spawn_time),
+            ReferenceEnd::ForcesChanged { tick } => {
+                Some(tick.saturating_sub(self.spawn_tick) as f64 * dt)
+            }
+        }
+    }
+
+    /// Points along the exact trajectory from spawn, `GHOST_SAMPLES` of them over `horizon`
+    /// seconds (cut at the reference's end and where the body's centre would pass below
+    /// `floor`), into `out`.
+    pub fn trajectory(&self, horizon: f64, dt: f64, floor: Option<f64>, out: &mut Vec<DVec3>) {
+        out.clear();
+        let horizon = self
+            .ends_after(dt)
+            .unwrap_or(horizon)
+            .clamp(0.0, GHOST_HORIZON_S);
+        for k in 0..GHOST_SAMPLES {
+            let t = horizon * k as f64 / (GHOST_SAMPLES - 1) as f64;
+            let Some(s) = self.exact_at(t) else {
+                return;
+            };
+            if floor.is_some_and(|z| s.p.z < z) && k > 0 {
+                return;
+            }
+            out.push(s.p);
+        }
+    }
+}

@@ -1,0 +1,45 @@
+//! What the GPU and window tests share: finding an adapter or a display, or saying why not.
+//!
+//! Outside CI a machine without an adapter (or without Xvfb) skips these tests with a printed
+//! reason; with `CI=true` the same absence fails them, so CI cannot pass by not drawing.
+
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+use volley::render::Gpu;
+
+/// Whether the tests run in CI (`CI=true`).
+pub fn in_ci() -> bool {
+    std::env::var("CI").is_ok_and(|v| v == "true" || v == "1")
+}
+
+/// Skips (outside CI) or fails (in CI) a test that cannot run here, with the reason.
+pub fn unavailable(test: &str, why: &str) {
+    assert!(!in_ci(), "{test}: {why} (CI=true requires it)");
+    eprintln!("skipping {test}: {why}");
+}
+
+/// A headless device, or `None` after reporting why there is none.
+pub fn gpu(test: &str) -> Option<Gpu> {
+    match Gpu::headless() {
+        Ok(gpu) => Some(gpu),
+        Err(e) => {
+            unavailable(test, &e.to_string());
+            None
+        }
+    }
+}
+
+/// A fresh, empty folder for one test's files.
+pub fn scratch_dir(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("volley-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("the temp folder is writable");
+    dir
+}
+
+/// Path of a file in the crate.
+pub fn crate_path(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
