@@ -2,8 +2,8 @@
 //!
 //! Each [`Integrator`] variant documents its update, order, cost and stability limit (see
 //! `REFERENCE.md` in the course material). The hot loop never matches on the integrator per body:
-//! [`visit`] picks the force model and the scheme once, and the per-body loop is monomorphised
-//! over the resulting [`Scheme`], so a step costs exactly the arithmetic of its update.
+//! `visit` picks the force model and the scheme once, and the per-body loop is monomorphised
+//! over the resulting `Scheme`, so a step costs exactly the arithmetic of its update.
 //!
 //! Notation: `h` is the step (s), `m` the mass (kg), `V = mV / m`, `F(p, V)` the net force of
 //! the declared terms, `a = F / m`. No update uses `mul_add`: fused and unfused results differ in
@@ -241,7 +241,7 @@ fn visit_model<F: ForceModel, V: SchemeVisitor>(integrator: Integrator, f: &F, v
 
 /// Advances one body by `h` with any integrator: the reference path for tests and studies.
 ///
-/// The stepping loop uses the same [`Scheme`] code, so results are bit-identical to a world's.
+/// The stepping loop uses the same `Scheme` code, so results are bit-identical to a world's.
 /// `exact` on forces without a closed form returns the linear-part flow; check
 /// [`Forces::without_closed_form`] first (scenes do).
 pub fn step_body(

@@ -9,7 +9,7 @@
 //! is on demand ([`crate::hash::state_hash`]); neither happens inside a step.
 //!
 //! The integrate stage is one loop over the bodies, monomorphised over the integrator and the
-//! force model ([`crate::integrate::visit`]) and over whether the scene has any contacts, so a
+//! force model (`integrate::visit`) and over whether the scene has any contacts, so a
 //! scene pays for exactly what it declares. With several threads the bodies are split into
 //! contiguous chunks ([`rayon::join`]); each chunk writes its own event buffer and the buffers
 //! are concatenated in chunk order, and the per-body arithmetic does not depend on the chunking,

@@ -8,7 +8,7 @@
 //!   stage, the start-up force of Verlet and every evaluation of the contact root searches), and
 //!   wall time per tick, the median of repeated runs with no observer (meaningful only in a
 //!   release build; the report says which build made it);
-//! - **error** of the positions against a reference ([`reference`]): at the final tick, the
+//! - **error** of the positions against a reference ([`mod@reference`]): at the final tick, the
 //!   largest over the trajectory, and the RMS over every sampled (tick, body) pair; the largest
 //!   velocity error at the final tick; and the error of event times (impacts, target hits), the
 //!   k-th event of a body on a surface or target matched with the reference's k-th;
