@@ -57,7 +57,8 @@ pub enum Command {
     /// Switch the integrator.
     SetIntegrator(Integrator),
     /// Bodies, launcher, force terms and generator back to the scene's; the tick keeps
-    /// counting (sim time never goes back), and the integrator stays as chosen.
+    /// counting (sim time never goes back), and the integrator stays as chosen. A divergence is
+    /// cleared: the reset is a fresh start of the scene's bodies, so a stopped world steps again.
     Reset,
 }
 
@@ -166,6 +167,7 @@ impl World {
                 self.launcher = self.scene.launcher;
                 self.rng = crate::world::SplitMix64(self.scene.seed);
                 self.populate();
+                self.diverged = None;
             }
         }
         self.carry_valid = false;

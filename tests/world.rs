@@ -119,3 +119,31 @@ fn reset_restores_the_scene_but_time_keeps_counting() {
     assert_eq!(w.bodies().ids(), &[BodyId(2)], "new ids after a reset");
     assert_eq!(w.bodies().positions().get(0), DVec3::new(0.0, 0.0, 3.0));
 }
+
+#[test]
+fn reset_clears_a_divergence_and_the_world_steps_again() {
+    // The reference's stiff spring, k/m = 1e4 at h = 1/60 (w h = 1.667): explicit Euler's
+    // energy passes the guard's bound within a few steps.
+    let text = r#"Scene(dt: 0.0166666667, integrator: ExplicitEuler,
+        forces: [Spring(anchor: (0, 0, 0), stiffness: 10000.0)],
+        bodies: [(mass: 1, position: (0.1, 0, 0))])"#;
+    let scene = scene::parse(text, "inline.ron", "inline").unwrap();
+    let mut w = World::new(&scene);
+    let d = (0..100)
+        .find_map(|_| w.step().err())
+        .expect("the run diverges");
+    assert_eq!(w.divergence(), Some(d));
+    assert_eq!(w.step(), Err(d), "a stopped world stays stopped");
+    let tick = w.tick();
+    w.apply(&Command::Reset).unwrap();
+    assert_eq!(w.divergence(), None);
+    assert_eq!(w.tick(), tick, "the tick keeps counting");
+    let fresh = World::new(&scene);
+    assert_eq!(
+        w.bodies().positions().get(0),
+        fresh.bodies().positions().get(0)
+    );
+    assert_eq!(w.bodies().momenta().get(0), fresh.bodies().momenta().get(0));
+    assert_eq!(w.step(), Ok(()));
+    assert_eq!(w.tick(), tick + 1);
+}
