@@ -550,3 +550,97 @@ fn wrong_magic_another_format_version_or_an_unparsable_scene_is_a_one_line_error
     assert!(e.contains("bodies[0].mass"), "{e}");
     assert!(!e.contains('\n'));
 }
+
+/// Drives `sim` frame by frame as a window does (jittered 60 Hz frames, a pause, five single
+/// steps, then time scale 3), running each frame with `frame`; returns the frames' tick counts.
+fn drive_by_frames(
+    sim: &mut SimLoop,
+    mut frame: impl FnMut(&mut SimLoop, Duration) -> u32,
+) -> Vec<u32> {
+    use volley::clock::FrameSource;
+    let mut source = VirtualClock::Jitter {
+        base: Duration::from_nanos(16_666_667),
+        spread: Duration::from_millis(9),
+        rng: volley::world::SplitMix64(7),
+    };
+    let mut steps = Vec::new();
+    for i in 0..400 {
+        match i {
+            40 => sim.clock.pause(),
+            50..=54 => sim.clock.single_step(),
+            60 => {
+                sim.clock.resume();
+                sim.clock.set_time_scale(3.0).unwrap();
+            }
+            _ => {}
+        }
+        steps.push(frame(sim, source.next_delta()));
+    }
+    steps
+}
+
+#[test]
+fn a_replay_driven_by_display_frames_checks_every_tick_and_keyframe() {
+    let (scene, commands) = (coverage_scene(), coverage_commands());
+    let bytes = record(&scene, 300, &commands, options(1, 50));
+    let (mut verifier, mut sim) =
+        volley::replay::Verifier::start(open(&bytes).unwrap(), None).unwrap();
+    let steps = drive_by_frames(&mut sim, |sim, delta| {
+        verifier.frame(sim, delta, &mut ()).unwrap().steps
+    });
+    assert!(verifier.is_done(&sim.world));
+    assert!(verifier.first_divergence().is_none());
+    assert_eq!(sim.world.tick(), 300);
+    // The same comparisons as a replay at one tick per frame: 301 hashes and 7 keyframes.
+    assert_eq!(verifier.hashes_checked(), 301);
+    assert_eq!(verifier.keyframes_checked(), 7);
+    assert_eq!(
+        state_hash(&sim.world),
+        state_hash(replay(&bytes, None).world())
+    );
+    // Stopping at keyframes costs the clock nothing: up to the end, every frame ran exactly the
+    // ticks a plain loop runs with the same frames (paused frames only the single steps), and
+    // after it none.
+    let mut plain = SimLoop::new(World::new(&scene));
+    plain.schedule(commands);
+    let expected = drive_by_frames(&mut plain, |sim, delta| {
+        sim.frame(delta, &mut ()).unwrap().steps
+    });
+    let end = steps.iter().scan(0, |t, &s| {
+        *t += u64::from(s);
+        Some(*t)
+    });
+    let last = end.take_while(|&t| t < 300).count();
+    assert_eq!(steps[..last], expected[..last]);
+    assert!(steps[last] > 0 && steps[last] <= expected[last]);
+    assert!(steps[last + 1..].iter().all(|&s| s == 0));
+    assert_eq!(&steps[50..55], &[1; 5]);
+}
+
+#[test]
+fn a_nudged_recording_replayed_by_frames_parts_at_the_same_tick_with_the_same_report() {
+    let scene = free_flight();
+    let bytes = record_nudged(&scene, 60, 37, options(1, 10));
+    let (mut verifier, mut sim) =
+        volley::replay::Verifier::start(open(&bytes).unwrap(), None).unwrap();
+    let mut seen_before_report = false;
+    for _ in 0..200 {
+        verifier
+            .frame(&mut sim, Duration::from_millis(7), &mut ())
+            .unwrap();
+        if let Some(p) = verifier.parted()
+            && verifier.first_divergence().is_none()
+        {
+            // Seen at tick 38, before the keyframe of tick 40 completes the report.
+            assert_eq!((p.tick, p.compared_at, p.fields.len()), (38, None, 0));
+            seen_before_report = true;
+        }
+    }
+    assert!(
+        seen_before_report,
+        "7 ms frames of a 10 ms step stop between ticks 38 and 40"
+    );
+    let by_ticks = replay(&bytes, None);
+    assert_eq!(verifier.first_divergence(), by_ticks.first_divergence());
+    assert_eq!(sim.world.tick(), 40, "the replay stops at the report");
+}

@@ -14,6 +14,8 @@
 //! - [`Recording`] opens one: checks every record, keeps the index, reads keyframes on demand.
 //! - [`Replay`] re-simulates one through [`crate::SimLoop`], compares every stored hash and
 //!   every keyframe, and reports the [`FirstDivergence`] with every differing field ([`diff`]).
+//!   The comparing is done by a [`Verifier`], which checks any loop however it is driven (the
+//!   window replays through it with its own frame deltas).
 //!
 //! ```
 //! use volley::replay::{RecordOptions, Recorder, Recording, Replay};
@@ -38,12 +40,16 @@ pub mod keyframe;
 mod play;
 mod reader;
 mod recorder;
+mod report;
+mod verify;
 
 pub use diff::{FieldDiff, Value, ulps};
 pub use format::{Footer, Header};
-pub use play::{FirstDivergence, Mismatch, Replay};
+pub use play::Replay;
 pub use reader::{KeyframeEntry, Recording};
 pub use recorder::{FlushPolicy, RecordOptions, RecordStats, Recorder};
+pub use report::{FirstDivergence, Mismatch};
+pub use verify::Verifier;
 
 pub use crate::world::Snapshot;
 
