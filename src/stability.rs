@@ -454,6 +454,12 @@ impl StabilityReport {
         }
     }
 
+    /// The largest tick length (s), rounded down to three significant digits, at which `v`'s
+    /// integrator is stable with the report's substeps; `None` when no step is stable.
+    pub fn suggested_dt(&self, v: &Verdict) -> Option<f64> {
+        v.max_step.map(|m| floor_sig(m * f64::from(self.substeps)))
+    }
+
     /// Ways to make the step stable for `v`'s integrator: substeps, a smaller dt, another
     /// integrator.
     pub fn fixes(&self, v: &Verdict) -> Vec<String> {
@@ -462,11 +468,8 @@ impl StabilityReport {
             let h = self.dt / f64::from(n);
             fixes.push(format!("--substeps {n} ({})", describe_short(&s, h)));
         }
-        if let Some(m) = v.max_step {
-            fixes.push(format!(
-                "--dt {} or less",
-                sig_floor(m * f64::from(self.substeps))
-            ));
+        if let Some(dt) = self.suggested_dt(v) {
+            fixes.push(format!("--dt {} or less", sig(dt)));
         }
         let stable: Vec<_> = self
             .verdicts
@@ -553,10 +556,10 @@ fn sig(x: f64) -> String {
     }
 }
 
-/// Three significant digits, rounded down (a suggested bound must itself satisfy the bound).
-fn sig_floor(x: f64) -> String {
+/// Rounded down to three significant digits (a suggested bound must itself satisfy the bound).
+fn floor_sig(x: f64) -> f64 {
     let scale = 10f64.powi(2 - x.log10().floor() as i32);
-    sig((x * scale).floor() / scale)
+    (x * scale).floor() / scale
 }
 
 #[cfg(test)]
