@@ -7,6 +7,11 @@
 //! leaves; the scene and the panel are encoded into the surface texture and presented. Device and
 //! surface are created on `resumed`, as winit requires. Without vsync, frames are capped at
 //! [`MAX_FPS`] so a software adapter does not spin a core drawing frames nobody sees.
+//!
+//! The session records its first lane on request ([`session::recording`]) and plays recordings
+//! back ([`session::replaying`], [`run_session`] with [`Session::for_replay`]); the panel shows
+//! divergences, a replay's mismatch and the stability pre-check at its top
+//! ([`panel`]).
 
 mod control;
 mod frame;
@@ -62,6 +67,8 @@ pub struct WindowOptions {
     pub watch: bool,
     /// Bundled scenes for the picker, (name, path).
     pub scenes: Vec<(String, PathBuf)>,
+    /// Record the first lane from tick 0 to this file (`volley window --record FILE`).
+    pub record: Option<PathBuf>,
 }
 
 /// Why the window could not run.
@@ -107,16 +114,27 @@ pub struct RunSummary {
     pub interval_ms: Option<f64>,
     /// Median time spent on a frame (ms): stepping, the panel, drawing, presenting.
     pub work_ms: Option<f64>,
+    /// The recordings made in the window, oldest first (the last one ended when it closed).
+    pub recordings: Vec<session::recording::FinishedRecording>,
+    /// Where the last replay stood when it ended or the window closed.
+    pub replay: Option<session::replaying::ReplayVerdict>,
 }
 
 /// Opens the window on `scene` (read from `path`) and runs until it is closed.
 pub fn run(scene: Scene, path: &Path, options: WindowOptions) -> Result<RunSummary, AppError> {
+    let session = Session::new(scene, path, options.compare.clone());
+    run_session(session, options)
+}
+
+/// Opens the window on a prepared session (a replay: [`Session::for_replay`]) and runs until it
+/// is closed. A recording still running when it closes is ended with its footer.
+pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummary, AppError> {
     let event_loop = EventLoop::new().map_err(|e| AppError::NoDisplay(os_reason(&e)))?;
     event_loop.set_control_flow(ControlFlow::Poll);
-    let mut app = App::new(scene, path, options);
-    event_loop
-        .run_app(&mut app)
-        .map_err(|e| AppError::NoDisplay(e.to_string()))?;
+    let mut app = App::new(session, options);
+    let ran = event_loop.run_app(&mut app);
+    app.session.stop_recording("the window closed");
+    ran.map_err(|e| AppError::NoDisplay(e.to_string()))?;
     app.outcome.clone()?;
     let median = |v: &mut Vec<f64>| {
         v.sort_by(f64::total_cmp);
@@ -128,6 +146,8 @@ pub fn run(scene: Scene, path: &Path, options: WindowOptions) -> Result<RunSumma
         // The first interval includes opening the window and the device.
         interval_ms: median(&mut app.timings.iter().skip(1).map(|t| t.0).collect()),
         work_ms: median(&mut app.timings.iter().map(|t| t.1).collect()),
+        recordings: app.session.recordings().to_vec(),
+        replay: app.session.replay_verdict(),
     })
 }
 
@@ -183,8 +203,7 @@ struct App {
 }
 
 impl App {
-    fn new(scene: Scene, path: &Path, options: WindowOptions) -> App {
-        let mut session = Session::new(scene, path, options.compare.clone());
+    fn new(mut session: Session, options: WindowOptions) -> App {
         session.set_paused(options.paused);
         session.set_time_scale(options.time_scale);
         let panel = PanelState::new(&session, options.scenes.clone());
@@ -222,8 +241,14 @@ impl App {
         app
     }
 
-    /// Watches the session's scene file (if watching is on); failure is a note, not an error.
+    /// Watches the session's scene file (if watching is on and the scene has a file of its
+    /// own); failure is a note, not an error.
     fn rewatch(&mut self) {
+        if self.session.is_embedded() {
+            self.panel.file_note = Some(("the recording's scene: no hot reload".into(), true));
+            self.watch = None;
+            return;
+        }
         if !self.options.watch {
             return;
         }
@@ -243,7 +268,12 @@ impl App {
     fn load_scene(&mut self, path: &Path, reload: bool) {
         match crate::scene::load(path) {
             Ok(scene) => {
-                self.session.restart(Some((scene, path.to_path_buf())));
+                let why = if reload {
+                    "the scene file was saved"
+                } else {
+                    "another scene was picked"
+                };
+                self.session.restart(Some((scene, path.to_path_buf())), why);
                 self.panel.sync(&self.session);
                 if reload {
                     let at = self.session.world().tick();
@@ -252,11 +282,27 @@ impl App {
                     self.rewatch();
                     self.needs_framing = true;
                 }
-                if let Some(w) = &self.window {
-                    w.set_title(&format!("Volley: {}", self.session.scene().name));
-                }
+                self.retitle();
             }
             Err(e) => self.panel.file_note = Some((e.to_string(), false)),
+        }
+    }
+
+    /// The window title: the scene, and the recording when replaying.
+    fn title(&self) -> String {
+        match self.session.replay() {
+            Some(r) => format!(
+                "Volley: {} (replaying {})",
+                self.session.scene().name,
+                r.file().display()
+            ),
+            None => format!("Volley: {}", self.session.scene().name),
+        }
+    }
+
+    fn retitle(&self) {
+        if let Some(w) = &self.window {
+            w.set_title(&self.title());
         }
     }
 
@@ -266,7 +312,7 @@ impl App {
             None => {
                 let (w, h) = self.options.size;
                 let attributes = Window::default_attributes()
-                    .with_title(format!("Volley: {}", self.session.scene().name))
+                    .with_title(self.title())
                     .with_inner_size(winit::dpi::LogicalSize::new(w, h));
                 let window = event_loop
                     .create_window(attributes)
@@ -310,10 +356,11 @@ impl App {
         self.check_reload(start);
         self.session.frame(delta);
         if self.session.lanes().iter().all(|l| l.pending() == 0) {
-            let (dt_ms, pick) = (self.panel.dt_ms, self.panel.compare_pick.clone());
+            let (dt_ms, substeps) = (self.panel.dt_ms, self.panel.substeps);
+            let pick = self.panel.compare_pick.clone();
             self.panel.sync(&self.session);
-            // The dt field keeps what is being typed until it is applied.
-            self.panel.dt_ms = dt_ms;
+            // The step fields keep what is being typed until it is applied.
+            (self.panel.dt_ms, self.panel.substeps) = (dt_ms, substeps);
             self.panel.compare_pick = pick;
         }
         let (Some(window), Some(egui_state)) = (self.window.clone(), self.egui_state.as_mut())
@@ -339,6 +386,7 @@ impl App {
                     });
             }
             rest = ui.available_rect_before_wrap();
+            panel::overlay(ui.ctx(), rest, &self.session);
         });
         egui_state.handle_platform_output(&window, output.platform_output);
         for action in actions {
@@ -406,6 +454,14 @@ impl ApplicationHandler for App {
         }
         if let Err(e) = self.open(event_loop) {
             self.outcome = Err(e);
+            event_loop.exit();
+            return;
+        }
+        // `--record FILE`: from tick 0, once there is a window to run in.
+        if let Some(path) = self.options.record.take()
+            && let Err(e) = self.session.start_recording(Some(path))
+        {
+            self.outcome = Err(AppError::Io(e));
             event_loop.exit();
         }
     }

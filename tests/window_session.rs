@@ -80,29 +80,112 @@ fn switching_the_integrator_goes_through_a_command_and_survives_a_dt_change() {
     assert_eq!(session.world().integrator(), Integrator::Rk4);
 }
 
-#[test]
-fn reset_after_a_divergence_restarts_at_tick_0() {
-    // The reference's stiff spring: k/m = 1e4 at h = 1/60 (w h = 1.667); explicit Euler's
-    // energy passes 10 times its start within a few steps.
+/// The reference's stiff spring: k/m = 1e4 at h = 1/60 (w h = 1.667); explicit Euler's energy
+/// passes 10 times its start within a few steps, semi-implicit Euler stays bounded (w h < 2).
+fn stiff_spring() -> scene::Scene {
     let text = "Scene(dt: 0.0166666667, integrator: ExplicitEuler,
         forces: [Spring(anchor: (0, 0, 0), stiffness: 10000.0)],
         bodies: [(mass: 1, position: (0.1, 0, 0))])";
-    let scene = scene::parse(text, "stiff.ron", "stiff").unwrap();
-    let mut session = Session::new(scene, Path::new("stiff.ron"), Vec::new());
-    for _ in 0..20 {
-        session.frame(FRAME);
-    }
-    let stopped = session.lanes()[0].stopped.clone();
-    assert!(
-        stopped.is_some_and(|s| s.contains("diverged")),
-        "the run diverged"
-    );
-    let tick = session.world().tick();
+    scene::parse(text, "stiff.ron", "stiff").unwrap()
+}
+
+/// Where the stiff spring diverges, from the library alone.
+fn stiff_divergence() -> volley::Divergence {
+    let mut world = volley::World::new(&stiff_spring());
+    (0..100).find_map(|_| world.step().err()).unwrap()
+}
+
+#[test]
+fn a_divergence_stops_its_lane_pauses_every_clock_and_names_tick_and_body() {
+    let expected = stiff_divergence();
+    let mut session = Session::new(stiff_spring(), Path::new("stiff.ron"), Vec::new());
     session.frame(FRAME);
-    assert_eq!(session.world().tick(), tick, "a stopped lane does not step");
+    assert_eq!(session.lanes()[0].stopped, Some(expected));
+    assert_eq!(session.world().divergence(), Some(expected));
+    assert_eq!(
+        session.world().tick(),
+        expected.tick,
+        "the bad state stays on screen"
+    );
+    assert!(session.is_paused() && session.paused_by_alarm());
+    session.set_paused(false);
+    session.frame(FRAME);
+    assert_eq!(
+        session.world().tick(),
+        expected.tick,
+        "a stopped lane does not step"
+    );
+}
+
+#[test]
+fn reset_after_a_divergence_is_a_reset_command_the_tick_keeps_counting_and_the_clock_resumes() {
+    let d = stiff_divergence();
+    let mut session = Session::new(stiff_spring(), Path::new("stiff.ron"), Vec::new());
+    session.frame(FRAME);
     session.reset();
-    assert_eq!(session.world().tick(), 0);
+    assert!(!session.is_paused(), "the pause the divergence caused ends");
     assert!(session.lanes()[0].stopped.is_none());
+    session.frame(FRAME);
+    // The reset put the body back at its start at tick d.tick (under a new id: ids are never
+    // reused); the spring is autonomous, so it diverges again after as many steps, with the
+    // same energy.
+    let again = session.lanes()[0].stopped.expect("it diverges again");
+    let body = session.world().bodies().ids()[0];
+    assert_ne!(body, d.body);
+    assert_eq!(
+        again,
+        volley::Divergence {
+            tick: 2 * d.tick,
+            body,
+            ..d
+        }
+    );
+    assert_eq!(session.lanes()[0].history.commands_applied(), 1);
+}
+
+#[test]
+fn a_reset_while_the_user_pauses_waits_for_the_next_tick_without_a_new_alarm() {
+    let d = stiff_divergence();
+    let mut session = Session::new(stiff_spring(), Path::new("stiff.ron"), Vec::new());
+    session.frame(FRAME);
+    session.set_paused(true);
+    session.reset();
+    session.frame(FRAME);
+    assert!(session.is_paused() && !session.paused_by_alarm());
+    assert!(
+        session.lanes()[0].stopped.is_none(),
+        "the reset waits, not a new divergence"
+    );
+    assert_eq!(session.lanes()[0].pending(), 1);
+    session.single_step();
+    session.frame(FRAME);
+    assert_eq!(session.world().tick(), d.tick + 1);
+    assert_eq!(session.world().divergence(), None);
+}
+
+#[test]
+fn in_compare_mode_reset_after_a_divergence_restarts_every_lane_at_tick_0() {
+    let compared = vec![Integrator::ExplicitEuler, Integrator::SemiImplicitEuler];
+    let mut session = Session::new(stiff_spring(), Path::new("stiff.ron"), compared);
+    session.frame(FRAME);
+    let lanes = session.lanes();
+    assert_eq!(lanes[0].stopped, Some(stiff_divergence()));
+    assert!(
+        lanes[1].stopped.is_none(),
+        "semi-implicit Euler is stable at w h = 1.667"
+    );
+    // The stable lane ran its whole frame before the pause (100 ms of 16.666667 ms ticks).
+    let ticks = FRAME.as_nanos() / stiff_spring().timestep.as_nanos();
+    assert_eq!(u128::from(lanes[1].sim.world.tick()), ticks);
+    assert!(session.is_paused());
+    session.reset();
+    assert!(
+        session
+            .lanes()
+            .iter()
+            .all(|l| l.sim.world.tick() == 0 && l.stopped.is_none())
+    );
+    assert!(!session.is_paused());
 }
 
 #[test]

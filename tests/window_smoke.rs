@@ -96,3 +96,126 @@ fn without_an_adapter_the_window_exits_4_naming_the_headless_mode() {
     assert_eq!(ours.len(), 1, "{stderr}");
     assert!(ours[0].contains("volley headless"), "{stderr}");
 }
+
+/// Runs `volley ARGS` under a virtual X server; `None` (after reporting why) where no window
+/// can open here.
+fn under_xvfb(test: &str, args: &[&str]) -> Option<std::process::Output> {
+    if !has("xvfb-run") {
+        support::unavailable(test, "xvfb-run is not installed (apt-get install xvfb)");
+        return None;
+    }
+    let output = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x768x24"])
+        .arg(env!("CARGO_BIN_EXE_volley"))
+        .args(args)
+        .args(["--size", "640x400", "--frame-rate", "60"])
+        .output()
+        .expect("xvfb-run starts");
+    if output.status.code() == Some(4) {
+        support::unavailable(test, String::from_utf8_lossy(&output.stderr).trim());
+        return None;
+    }
+    Some(output)
+}
+
+#[test]
+fn a_recording_made_in_the_window_replays_and_verifies_in_the_window() {
+    let test = "a_recording_made_in_the_window_replays_and_verifies_in_the_window";
+    let file = support::scratch_dir("record-window").join("run.vrec");
+    let scene = support::crate_path("tests/data/replay_scene.ron");
+    let (file_arg, scene_arg) = (file.to_str().unwrap(), scene.to_str().unwrap());
+    // 30 frames of a steady 60 Hz clock are 0.5 s: 50 ticks of 10 ms.
+    let record = ["window", scene_arg, "--record", file_arg, "--no-watch"];
+    let Some(out) = under_xvfb(
+        test,
+        &[&record[..], &["--exit-after-frames", "30"]].concat(),
+    ) else {
+        return;
+    };
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let expected = format!("recorded ticks 0..=50 of `replay` to {file_arg}: ");
+    assert!(stdout.starts_with(&expected), "{stdout}");
+    assert!(
+        stdout
+            .lines()
+            .next()
+            .unwrap()
+            .ends_with("(the window closed)")
+    );
+    let footer = *volley::replay::Recording::open(&file)
+        .unwrap()
+        .footer()
+        .unwrap();
+    assert_eq!(footer.final_tick, 50);
+
+    // At time scale 4, 20 frames are 133 ticks' worth: the replay reaches the end.
+    let replay = [
+        "replay",
+        file_arg,
+        "--time-scale",
+        "4",
+        "--exit-after-frames",
+        "20",
+    ];
+    let Some(out) = under_xvfb(test, &replay) else {
+        return;
+    };
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let verdict = format!(
+        "verified 50 ticks, final hash {} (ticks 0..=50: 51 hashes",
+        volley::hash::hex(footer.final_hash)
+    );
+    assert!(stdout.lines().any(|l| l.starts_with(&verdict)), "{stdout}");
+}
+
+#[test]
+fn a_window_replay_that_parts_from_its_recording_exits_1_with_the_report() {
+    let test = "a_window_replay_that_parts_from_its_recording_exits_1_with_the_report";
+    let file = support::scratch_dir("parted-window").join("nudged.vrec");
+    let scene = volley::scene::load(&support::crate_path("tests/data/replay_scene.ron")).unwrap();
+    let mut sim = volley::SimLoop::new(volley::World::new(&scene));
+    let mut source = volley::clock::VirtualClock::Steady(scene.timestep);
+    let out = std::fs::File::create(&file).unwrap();
+    let options = volley::replay::RecordOptions {
+        keyframe_every: 10,
+        ..Default::default()
+    };
+    let mut recorder = volley::replay::Recorder::start(out, &sim.world, options).unwrap();
+    sim.run_until(20, &mut source, &mut recorder).unwrap();
+    let mut s = sim.world.snapshot();
+    s.mv.z[0] = s.mv.z[0].next_down();
+    sim.world.restore(&s).unwrap();
+    sim.run_until(40, &mut source, &mut recorder).unwrap();
+    recorder.finish(&sim.world).unwrap();
+
+    let file_arg = file.to_str().unwrap();
+    let args = [
+        "replay",
+        file_arg,
+        "--time-scale",
+        "4",
+        "--exit-after-frames",
+        "20",
+    ];
+    let Some(out) = under_xvfb(test, &args) else {
+        return;
+    };
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let first = "first divergence at tick 21: state hash recorded 0x";
+    assert!(stdout.lines().any(|l| l.starts_with(first)), "{stdout}");
+    assert!(stdout.contains("\n  body 0 mV.z: recorded "), "{stdout}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let line = format!("error: {file_arg}: the replay parts from the recording at tick 21");
+    assert!(stderr.lines().any(|l| l == line), "{stderr}");
+}

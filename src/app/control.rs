@@ -15,10 +15,14 @@ impl App {
             Action::Step => s.single_step(),
             Action::SetTimeScale(x) => s.set_time_scale(x),
             Action::ScaleTime(f) => s.set_time_scale((s.time_scale() * f).clamp(1e-3, 100.0)),
-            Action::SetDt(dt) => self.set_dt(dt),
+            Action::SetDt(dt) => {
+                let substeps = s.scene().substeps;
+                self.set_step(dt, substeps);
+            }
+            Action::SetStep { dt, substeps } => self.set_step(dt, substeps),
             Action::ScaleDt(f) => {
-                let dt = s.scene().dt() * f;
-                self.set_dt(dt);
+                let (dt, substeps) = (s.scene().dt() * f, s.scene().substeps);
+                self.set_step(dt, substeps);
             }
             Action::SetIntegrator(i) => s.push(Command::SetIntegrator(i)),
             Action::Launch {
@@ -45,6 +49,16 @@ impl App {
             }
             Action::Fire => s.push(Command::Fire),
             Action::Reset => s.reset(),
+            Action::ToggleRecord => s.toggle_recording(),
+            Action::Replay(path) => self.replay(&path),
+            Action::GoLive => {
+                if s.go_live() {
+                    self.panel.sync(&self.session);
+                    self.retitle();
+                } else {
+                    s.last_error = Some("go live: nothing is replaying".into());
+                }
+            }
             Action::PickScene(path) => self.load_scene(&path, false),
             Action::SetCompare(list) => s.set_compare(list),
             Action::ToggleCompare => {
@@ -67,10 +81,23 @@ impl App {
         }
     }
 
-    fn set_dt(&mut self, dt: f64) {
-        match self.session.set_dt(dt) {
+    fn set_step(&mut self, dt: f64, substeps: u32) {
+        match self.session.set_step(dt, substeps) {
             Ok(()) => self.panel.sync(&self.session),
-            Err(e) => self.session.last_error = Some(format!("dt: {e}")),
+            Err(e) => self.session.last_error = Some(e),
+        }
+    }
+
+    /// Replays `path` in the window; a file that cannot be replayed leaves the session alone.
+    fn replay(&mut self, path: &std::path::Path) {
+        match self.session.start_replay(path, None) {
+            Ok(()) => {
+                self.panel.sync(&self.session);
+                self.rewatch();
+                self.retitle();
+                self.needs_framing = true;
+            }
+            Err(e) => self.session.last_error = Some(e.to_string()),
         }
     }
 

@@ -22,6 +22,13 @@ pub enum Action {
     ScaleTime(f64),
     /// Set the timestep (s): restarts at tick 0.
     SetDt(f64),
+    /// Set the timestep (s) and the integrator steps per tick: restarts at tick 0.
+    SetStep {
+        /// Timestep (s).
+        dt: f64,
+        /// Integrator steps per tick.
+        substeps: u32,
+    },
     /// Multiply the timestep: restarts at tick 0.
     ScaleDt(f64),
     /// Switch the integrator (outside compare mode).
@@ -39,8 +46,15 @@ pub enum Action {
     NudgeLaunch(f64, f64, f64),
     /// Fire a projectile from the launcher.
     Fire,
-    /// Put the bodies back (a restart at tick 0 if a lane diverged).
+    /// Put the bodies back: a `Reset` command (in compare mode after a divergence, a restart
+    /// at tick 0).
     Reset,
+    /// Start or stop recording the first lane.
+    ToggleRecord,
+    /// Replay a recording in the window.
+    Replay(PathBuf),
+    /// End the replay and run on live from its state.
+    GoLive,
     /// Load another scene file.
     PickScene(PathBuf),
     /// Compare mode with these integrators (empty: off).
@@ -71,11 +85,19 @@ pub const DEFAULT_COMPARE: [Integrator; 4] = [
 ];
 
 /// Every keyboard shortcut, as (keys, what they do): listed in the panel and the README.
-pub const SHORTCUTS: [(&str, &str); 15] = [
+pub const SHORTCUTS: [(&str, &str); 17] = [
     ("Space", "pause / resume"),
     ("N or .", "single step (pauses)"),
     ("F", "fire"),
-    ("R", "reset (restart at tick 0 after a divergence)"),
+    (
+        "R",
+        "reset (a Reset command, also after a divergence; compare mode then restarts at tick 0)",
+    ),
+    (
+        "V",
+        "record on / off (the first lane, to recordings/SCENE-TIME.vrec)",
+    ),
+    ("L", "go live: end a replay and run on from its state"),
     (
         "1 to 7",
         "integrator: explicit Euler, semi-implicit Euler, Verlet, midpoint, RK4, implicit Euler, exact",
@@ -120,6 +142,8 @@ pub fn action_for_key(key: &Key) -> Option<Action> {
             "n" | "." => A::Step,
             "f" => A::Fire,
             "r" => A::Reset,
+            "v" => A::ToggleRecord,
+            "l" => A::GoLive,
             "[" => A::ScaleTime(0.5),
             "]" => A::ScaleTime(2.0),
             "-" => A::ScaleDt(0.5),

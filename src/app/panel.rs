@@ -1,6 +1,10 @@
 //! The side panel (egui): the loop's state, the numerical error, and every control.
 //!
-//! The panel only reads the session; what the user asks for comes back as [`Action`]s.
+//! The panel only reads the session; what the user asks for comes back as [`Action`]s. While a
+//! replay runs, the controls that would change the simulation are greyed out.
+
+mod alerts;
+mod record;
 
 use std::path::PathBuf;
 
@@ -11,6 +15,8 @@ use crate::app::session::Session;
 use crate::integrate::Integrator;
 use crate::render::BodyError;
 use crate::render::reference::ReferenceEnd;
+
+pub use alerts::{cause, overlay};
 
 /// Bodies listed in the error table.
 const ERROR_ROWS: usize = 8;
@@ -28,6 +34,8 @@ pub struct PanelState {
     pub azimuth_deg: f64,
     /// The timestep being edited (ms).
     pub dt_ms: f64,
+    /// The substeps being edited.
+    pub substeps: u32,
     /// The integrators ticked for compare mode.
     pub compare_pick: Vec<Integrator>,
     /// A note on the scene file: watched, reloaded, or why a reload failed.
@@ -44,6 +52,7 @@ impl PanelState {
             elevation_deg: 0.0,
             azimuth_deg: 0.0,
             dt_ms: 0.0,
+            substeps: 1,
             compare_pick: DEFAULT_COMPARE.to_vec(),
             file_note: None,
             scenes,
@@ -59,6 +68,7 @@ impl PanelState {
         self.elevation_deg = l.elevation_deg;
         self.azimuth_deg = l.azimuth_deg;
         self.dt_ms = session.scene().dt() * 1e3;
+        self.substeps = session.scene().substeps;
     }
 }
 
@@ -79,6 +89,7 @@ pub struct FrameStats {
     pub scale: f64,
 }
 
+/// An egui colour from a renderer colour.
 fn colour(c: [u8; 4]) -> Color32 {
     Color32::from_rgb(c[0], c[1], c[2])
 }
@@ -93,12 +104,16 @@ pub fn show(
 ) {
     egui::ScrollArea::vertical().show(ui, |ui| {
         header(ui, state, session, out);
+        alerts::show(ui, session, out);
         ui.separator();
+        record::show(ui, session, out);
+        ui.separator();
+        let live = session.replay().is_none();
         clock(ui, state, session, out);
         ui.separator();
-        simulation(ui, state, session, out);
+        ui.add_enabled_ui(live, |ui| simulation(ui, state, session, out));
         ui.separator();
-        compare(ui, state, session, out);
+        ui.add_enabled_ui(live, |ui| compare(ui, state, session, out));
         ui.separator();
         errors(ui, session);
         ui.separator();
@@ -202,19 +217,31 @@ fn clock(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<A
     if ui.add(slider).changed() {
         out.push(Action::SetTimeScale(scale));
     }
-    ui.horizontal(|ui| {
-        ui.add(
-            egui::DragValue::new(&mut state.dt_ms)
-                .speed(0.1)
-                .range(0.001..=10_000.0)
-                .suffix(" ms"),
-        );
-        if ui.button("Apply dt").clicked() {
-            out.push(Action::SetDt(state.dt_ms * 1e-3));
-        }
+    ui.add_enabled_ui(session.replay().is_none(), |ui| {
+        ui.horizontal(|ui| {
+            ui.add(
+                egui::DragValue::new(&mut state.dt_ms)
+                    .speed(0.1)
+                    .range(0.001..=10_000.0)
+                    .suffix(" ms"),
+            );
+            ui.add(
+                egui::DragValue::new(&mut state.substeps)
+                    .speed(0.1)
+                    .range(1..=crate::scene::MAX_SUBSTEPS)
+                    .suffix(" substeps"),
+            );
+            if ui.button("Apply").clicked() {
+                out.push(Action::SetStep {
+                    dt: state.dt_ms * 1e-3,
+                    substeps: state.substeps,
+                });
+            }
+        });
     });
     ui.weak(
-        "Changing dt restarts the scene at tick 0 with the new step, so sim time stays tick x dt.",
+        "Changing dt or substeps restarts the scene at tick 0 with the new step, so sim time \
+         stays tick x dt.",
     );
 }
 
@@ -322,9 +349,9 @@ fn compare(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec
         for lane in session.lanes() {
             ui.colored_label(colour(lane.colour()), lane.sim.world.integrator().name());
             match &lane.stopped {
-                Some(why) => {
-                    ui.colored_label(Color32::LIGHT_RED, "diverged")
-                        .on_hover_text(why);
+                Some(d) => {
+                    ui.colored_label(Color32::LIGHT_RED, format!("diverged at tick {}", d.tick))
+                        .on_hover_text(format!("body {}: {}", d.body, cause(d)));
                     ui.label("");
                 }
                 None => {
@@ -366,9 +393,6 @@ fn errors(ui: &mut Ui, session: &Session) {
     let lane = &session.lanes()[0];
     let world = &lane.sim.world;
     ui.strong("Error against the closed form");
-    if let Some(why) = &lane.stopped {
-        ui.colored_label(Color32::LIGHT_RED, why);
-    }
     egui::Grid::new("errors").striped(true).show(ui, |ui| {
         ui.strong("body");
         ui.strong("|p - p_exact|");

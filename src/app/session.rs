@@ -3,21 +3,42 @@
 //!
 //! Everything that changes a simulation goes through [`SimLoop::push`] as a [`Command`], applied
 //! at the next tick boundary, so a recording of the session sees it. Pause, single step and time
-//! scale set the clocks: they change when ticks run, never what a tick computes. Changing dt,
-//! switching compare mode, picking or reloading a scene, and resetting a diverged run start the
-//! scene again at tick 0, so sim time stays exactly `tick * dt`.
+//! scale set the clocks: they change when ticks run, never what a tick computes. Changing dt or
+//! substeps, switching compare mode, and picking or reloading a scene start the scene again at
+//! tick 0, so sim time stays exactly `tick * dt`; such a restart ends a recording (with its
+//! footer) first.
+//!
+//! A divergence stops its lane and pauses every clock, so the bad state stays on screen. Reset
+//! after it is the `Reset` command like any reset (recordable; the tick keeps counting; the
+//! clocks resume if the divergence paused them), except in compare mode, where it restarts
+//! every lane at tick 0 so the lanes stay on one tick.
+//!
+//! The first lane can be recorded ([`Session::start_recording`], in compare mode too: the first
+//! integrator's world) or can be a replay of a recording ([`Session::start_replay`], one lane,
+//! see [`replaying`]). Every lane carries the stability pre-check of its world
+//! ([`crate::stability::check_world`]), recomputed when its integrator, dt, substeps or scene
+//! change.
+
+pub mod recording;
+pub mod replaying;
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
+
+use glam::DVec3;
 
 use crate::clock::FrameTicks;
 use crate::command::Command;
 use crate::integrate::Integrator;
 use crate::render::draw::{self, Rgba};
 use crate::render::{SceneBounds, TickHistory};
+use crate::replay::ReplayError;
 use crate::scene::{Scene, check_integrator};
 use crate::sim_loop::{LoopError, SimLoop};
-use crate::world::World;
+use crate::stability::{StabilityReport, check_world};
+use crate::world::{Divergence, World};
+use recording::{FinishedRecording, LiveRecording, Recorded};
+use replaying::{ReplayVerdict, SessionReplay};
 
 /// One simulation of the session.
 #[derive(Debug)]
@@ -26,15 +47,42 @@ pub struct Lane {
     pub sim: SimLoop,
     /// Previous state, trails and references for drawing.
     pub history: TickHistory,
-    /// Why the lane stopped (a divergence), if it did.
-    pub stopped: Option<String>,
+    /// The divergence that stopped the lane, if one did (the lane then runs no ticks).
+    pub stopped: Option<Divergence>,
     /// Commands pushed to this lane so far.
     pub pushed: u64,
     /// Commands the loop refused.
     pub refused: u64,
+    /// The stability pre-check of this lane's world (its integrator, dt and substeps).
+    pub stability: StabilityReport,
+    /// The pre-check's warnings (empty when the lane's integrator is stable at its step).
+    pub warnings: Vec<String>,
 }
 
 impl Lane {
+    /// A lane running `sim`, drawn relative to `origin`.
+    fn new(sim: SimLoop, origin: DVec3) -> Lane {
+        let stability = check_world(&sim.world);
+        Lane {
+            history: TickHistory::new(&sim.world, origin),
+            warnings: stability.warnings(),
+            stability,
+            sim,
+            stopped: None,
+            pushed: 0,
+            refused: 0,
+        }
+    }
+
+    /// Recomputes the pre-check if a command switched the integrator (dt, substeps and scene
+    /// change only by building new lanes).
+    fn refresh_stability(&mut self) {
+        if self.stability.chosen != self.sim.world.integrator() {
+            self.stability = check_world(&self.sim.world);
+            self.warnings = self.stability.warnings();
+        }
+    }
+
     /// The colour of the lane's integrator.
     pub fn colour(&self) -> Rgba {
         draw::integrator_colour(self.sim.world.integrator())
@@ -42,7 +90,8 @@ impl Lane {
 
     /// Commands pushed but not yet applied (they wait for the next tick).
     pub fn pending(&self) -> u64 {
-        self.pushed - self.history.commands_applied() - self.refused
+        self.pushed
+            .saturating_sub(self.history.commands_applied() + self.refused)
     }
 }
 
@@ -64,6 +113,16 @@ pub struct Session {
     clock: ClockSettings,
     last: FrameTicks,
     threads: usize,
+    /// The clocks were paused by a divergence or a replay's mismatch, not by the user.
+    paused_by_alarm: bool,
+    /// The scene came from a recording (no file of its own to watch).
+    embedded: bool,
+    /// The scene file as a recording's header names it.
+    scene_file: String,
+    recording: Option<LiveRecording>,
+    recordings: Vec<FinishedRecording>,
+    replay: Option<SessionReplay>,
+    last_replay: Option<ReplayVerdict>,
     /// The last command or setting that was refused, for the panel.
     pub last_error: Option<String>,
 }
@@ -85,10 +144,27 @@ impl Session {
             },
             last: FrameTicks::default(),
             threads,
+            paused_by_alarm: false,
+            embedded: false,
+            scene_file: path.display().to_string(),
+            recording: None,
+            recordings: Vec::new(),
+            replay: None,
+            last_replay: None,
             last_error: None,
         };
         session.build_lanes();
         session
+    }
+
+    /// A session replaying the recording `path` (from the keyframe at or before `seek`, then
+    /// re-simulated to `seek`), or why it cannot.
+    pub fn for_replay(path: &Path, seek: Option<u64>) -> Result<Session, ReplayError> {
+        let (replay, sim) = SessionReplay::open(path, seek)?;
+        let scene = replay.verifier().scene().clone();
+        let mut session = Session::new(scene, path, Vec::new());
+        session.install_replay(replay, sim);
+        Ok(session)
     }
 
     fn build_lanes(&mut self) {
@@ -107,18 +183,8 @@ impl Session {
                 let mut world = World::new(&scene);
                 world.set_threads(self.threads);
                 let mut sim = SimLoop::new(world);
-                if self.clock.paused {
-                    sim.clock.pause();
-                }
-                let _ = sim.clock.set_time_scale(self.clock.time_scale);
-                let history = TickHistory::new(&sim.world, origin);
-                Lane {
-                    sim,
-                    history,
-                    stopped: None,
-                    pushed: 0,
-                    refused: 0,
-                }
+                self.tune(&mut sim);
+                Lane::new(sim, origin)
             })
             .collect();
         if self.lanes.is_empty() {
@@ -133,30 +199,102 @@ impl Session {
         self.last = FrameTicks::default();
     }
 
-    /// One frame: every running lane advances its clock by `delta` and runs the ticks it grants.
+    /// Applies the shared clock settings (pause, time scale) to a new lane's clock.
+    fn tune(&self, sim: &mut SimLoop) {
+        if self.clock.paused {
+            sim.clock.pause();
+        }
+        let _ = sim.clock.set_time_scale(self.clock.time_scale);
+    }
+
+    /// One frame: every running lane advances its clock by `delta` and runs the ticks it grants
+    /// (the first lane through its recorder or its replay, when it has one). A lane that
+    /// diverges stops and pauses every clock; a recording of the first lane ends with its
+    /// divergence.
     pub fn frame(&mut self, delta: Duration) {
         let mut first = None;
-        for lane in &mut self.lanes {
+        let mut alarm = false;
+        for (i, lane) in self.lanes.iter_mut().enumerate() {
             if lane.stopped.is_some() {
                 continue;
             }
-            match lane.sim.frame(delta, &mut lane.history) {
+            // A world still diverged here has a reset waiting for its tick.
+            let before = lane.sim.world.divergence();
+            let result = match (i, &mut self.replay, &mut self.recording) {
+                (0, Some(replay), _) => replaying::frame(replay, lane, delta),
+                (0, None, Some(recording)) => {
+                    let mut observer = Recorded {
+                        recording,
+                        history: &mut lane.history,
+                    };
+                    lane.sim.frame(delta, &mut observer)
+                }
+                _ => lane.sim.frame(delta, &mut lane.history),
+            };
+            match result {
                 Ok(ticks) => {
                     first.get_or_insert(ticks);
                 }
-                Err(LoopError::Diverged(d)) => lane.stopped = Some(d.to_string()),
+                Err(LoopError::Diverged(_)) => {}
                 Err(e) => {
                     lane.refused += 1;
                     self.last_error = Some(e.to_string());
                 }
             }
+            // A replay's verifier takes the loop's divergence in; the world still has it.
+            let now = lane.sim.world.divergence();
+            if now.is_some() && now != before {
+                lane.stopped = now;
+                alarm = true;
+            }
+            lane.refresh_stability();
         }
         self.last = first.unwrap_or_default();
+        if let Some(d) = self.lanes[0].stopped {
+            let why =
+                format!("the lane {d}; the recording ends there, and its replay reproduces it");
+            self.stop_recording(&why);
+        }
+        if self.recording.as_ref().is_some_and(|r| r.error().is_some()) {
+            self.stop_recording("a write failed");
+        }
+        alarm |= self.replay.as_mut().is_some_and(|r| {
+            let now = r.error().is_some() || r.verifier().first_divergence().is_some();
+            let first_time = now && !r.alarmed;
+            r.alarmed |= now;
+            first_time
+        });
+        if alarm {
+            self.alarm();
+        }
+    }
+
+    /// Pauses every clock on a divergence or a replay's mismatch, so the state stays on screen;
+    /// a reset resumes what an alarm paused.
+    fn alarm(&mut self) {
+        if !self.clock.paused {
+            self.set_paused(true);
+            self.paused_by_alarm = true;
+        }
+    }
+
+    /// While replaying, refuses `what` (it would change the simulation) with a note for the
+    /// panel, and returns true.
+    fn refuse_while_replaying(&mut self, what: &str) -> bool {
+        if self.replay.is_some() {
+            self.last_error = Some(format!(
+                "replaying: {what} is off (Go live, or L, takes over from this tick)"
+            ));
+        }
+        self.replay.is_some()
     }
 
     /// Queues `command` for the next tick of every lane. An integrator switch is refused in
-    /// compare mode (each lane is its integrator).
+    /// compare mode (each lane is its integrator); every command is refused while replaying.
     pub fn push(&mut self, command: Command) {
+        if self.refuse_while_replaying(&format!("`{command}`")) {
+            return;
+        }
         if let (Command::SetIntegrator(_), true) = (command, self.is_comparing()) {
             self.last_error = Some("compare mode runs every integrator at once".into());
             return;
@@ -173,27 +311,46 @@ impl Session {
         }
     }
 
-    /// Puts the bodies back: a `Reset` command, or a restart at tick 0 when a lane has
-    /// diverged (a stopped world cannot step again).
+    /// Puts the bodies back with a `Reset` command (recordable; the tick keeps counting), which
+    /// also lifts a divergence: the stopped lanes run again and a pause the divergence caused
+    /// ends. In compare mode after a divergence it restarts every lane at tick 0 instead, so
+    /// the lanes stay on one tick.
     pub fn reset(&mut self) {
-        if self.lanes.iter().any(|l| l.stopped.is_some()) {
-            self.restart(None);
+        if self.refuse_while_replaying("reset") {
+            return;
+        }
+        let stopped = self.lanes.iter().any(|l| l.stopped.is_some());
+        let resume = stopped && self.paused_by_alarm;
+        if stopped && self.is_comparing() {
+            self.restart(None, "reset after a divergence in compare mode");
         } else {
+            for lane in &mut self.lanes {
+                lane.stopped = None;
+            }
             self.push(Command::Reset);
+        }
+        if resume {
+            self.set_paused(false);
         }
     }
 
     /// Starts again at tick 0, with `scene` if given (a reload or a pick: the file's own dt and
-    /// integrator), else the same scene with the integrator chosen in the running session.
-    pub fn restart(&mut self, scene: Option<(Scene, PathBuf)>) {
+    /// integrator; it ends a replay), else the same scene with the integrator chosen in the
+    /// running session (refused while replaying). A recording ends first, noting `why`.
+    pub fn restart(&mut self, scene: Option<(Scene, PathBuf)>, why: &str) {
         match scene {
             Some((scene, path)) => {
+                self.end_replay();
                 self.bounds = SceneBounds::of_scene(&scene);
+                self.scene_file = path.display().to_string();
                 self.scene = scene;
                 self.path = path;
+                self.embedded = false;
             }
+            None if self.refuse_while_replaying(why) => return,
             None => self.keep_integrator_choice(),
         }
+        self.stop_recording(&format!("{why}: the world restarted at tick 0"));
         self.build_lanes();
     }
 
@@ -207,21 +364,46 @@ impl Session {
 
     /// Changes the timestep (s) and restarts at tick 0 with it.
     pub fn set_dt(&mut self, dt: f64) -> Result<(), String> {
-        self.scene.set_dt(dt)?;
-        self.restart(None);
+        self.set_step(dt, self.scene.substeps)
+    }
+
+    /// Changes the timestep (s) and the integrator steps per tick, and restarts at tick 0 with
+    /// them (nothing changes if either is refused, or while replaying).
+    pub fn set_step(&mut self, dt: f64, substeps: u32) -> Result<(), String> {
+        if self.replay.is_some() {
+            return Err("replaying: the step is the recording's".into());
+        }
+        let mut scene = self.scene.clone();
+        scene.set_dt(dt)?;
+        scene.set_substeps(substeps)?;
+        let why = match (
+            scene.timestep != self.scene.timestep,
+            scene.substeps != self.scene.substeps,
+        ) {
+            (true, true) => "dt and substeps changed",
+            (false, true) => "substeps changed",
+            _ => "dt changed",
+        };
+        (self.scene.timestep, self.scene.substeps) = (scene.timestep, scene.substeps);
+        self.restart(None, why);
         Ok(())
     }
 
     /// Switches compare mode (an empty list turns it off) and restarts at tick 0.
     pub fn set_compare(&mut self, integrators: Vec<Integrator>) {
+        if self.refuse_while_replaying("compare mode") {
+            return;
+        }
         self.keep_integrator_choice();
         self.compare = integrators;
+        self.stop_recording("compare mode switched: the world restarted at tick 0");
         self.build_lanes();
     }
 
-    /// Pauses or resumes every lane.
+    /// Pauses or resumes every lane (the user's pause: it replaces a pause a divergence caused).
     pub fn set_paused(&mut self, paused: bool) {
         self.clock.paused = paused;
+        self.paused_by_alarm = false;
         for lane in &mut self.lanes {
             if paused {
                 lane.sim.clock.pause();
@@ -265,9 +447,20 @@ impl Session {
         &self.scene
     }
 
-    /// The scene file.
+    /// The scene file, or the recording the scene came from.
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// Whether the scene came from a recording (replayed, or gone live from a replay): there is
+    /// no scene file to watch.
+    pub fn is_embedded(&self) -> bool {
+        self.embedded
+    }
+
+    /// Whether the clocks are paused because of a divergence or a replay's mismatch.
+    pub fn paused_by_alarm(&self) -> bool {
+        self.paused_by_alarm
     }
 
     /// The lanes.

@@ -1,13 +1,23 @@
-//! `volley replay`: play a recording back as a state table, or verify it bit for bit.
+//! `volley replay`: play a recording back in the window, as a state table, or verify it bit for
+//! bit.
+//!
+//! Which one: `--verify` prints the verdict; `--headless`, or any table option (`--format`,
+//! `--every`, `--precision`, `--no-table`, `--threads`), prints the table; otherwise the
+//! recording plays in the window, and where no window can open (no display, no adapter) the
+//! table is printed instead, after a one-line warning. Every form checks every stored hash;
+//! one that parts from the recording exits 1 with the report.
 
 use std::path::PathBuf;
 
 use clap::Args;
 
+use volley::app::session::replaying::ReplayVerdict;
+use volley::app::{self, AppError, Session};
 use volley::hash::{hex, state_hash};
 use volley::replay::{ErrorKind, Recording, Replay, ReplayError};
 use volley::table::{Format, Summary, TableWriter};
 
+use super::window::DisplayArgs;
 use super::{EXIT_ENVIRONMENT, EXIT_INPUT, EXIT_MISMATCH, Failure, fail};
 
 /// Arguments of `volley replay`.
@@ -21,24 +31,43 @@ pub struct ReplayArgs {
     /// Start at this tick, from the nearest keyframe at or before it.
     #[arg(long)]
     pub seek: Option<u64>,
-    /// Print a row every K ticks.
-    #[arg(long, default_value_t = 1)]
-    pub every: u64,
-    /// Output format of the table.
-    #[arg(long, value_enum, default_value_t = Format::Table)]
-    pub format: Format,
-    /// Decimals in the aligned table.
-    #[arg(long, default_value_t = 4)]
-    pub precision: usize,
-    /// Print events and the summary only, no rows.
+    /// Print the state table instead of opening the window.
+    #[arg(long)]
+    pub headless: bool,
+    /// Print a row every K ticks (default 1; implies the table).
+    #[arg(long)]
+    pub every: Option<u64>,
+    /// Output format of the table (default table; implies the table).
+    #[arg(long, value_enum)]
+    pub format: Option<Format>,
+    /// Decimals in the aligned table (default 4; implies the table).
+    #[arg(long)]
+    pub precision: Option<usize>,
+    /// Print events and the summary only, no rows (implies the table).
     #[arg(long)]
     pub no_table: bool,
-    /// Worker threads for stepping (results are identical for any count).
-    #[arg(long, default_value_t = 1)]
-    pub threads: usize,
+    /// Worker threads for stepping, headless (results are identical for any count; default 1;
+    /// implies the table).
+    #[arg(long)]
+    pub threads: Option<usize>,
     /// List at most this many differing fields in a divergence report (default: all).
     #[arg(long)]
     pub diff_limit: Option<usize>,
+    /// The window's options (when the recording plays in the window).
+    #[command(flatten)]
+    pub display: DisplayArgs,
+}
+
+impl ReplayArgs {
+    /// Whether the table is asked for, by `--headless` or by one of its options.
+    fn wants_table(&self) -> bool {
+        self.headless
+            || self.no_table
+            || self.every.is_some()
+            || self.format.is_some()
+            || self.precision.is_some()
+            || self.threads.is_some()
+    }
 }
 
 /// Maps a replay error to the CLI's exit codes: the file's fault 2, the output's 4.
@@ -70,12 +99,56 @@ fn open(args: &ReplayArgs) -> Result<Replay<std::io::BufReader<std::fs::File>>, 
         ));
     }
     let mut replay = Replay::start(recording, args.seek).map_err(failure)?;
-    replay.set_threads(args.threads);
+    replay.set_threads(args.threads.unwrap_or(1));
     Ok(replay)
 }
 
-/// Plays back or verifies; a replay that parts from its recording exits 1 with the report.
+/// Plays back in the window (or as a table) or verifies; a replay that parts from its
+/// recording exits 1 with the report.
 pub fn run(args: &ReplayArgs) -> Result<(), Failure> {
+    if args.verify || args.wants_table() {
+        return headless(args);
+    }
+    let session = Session::for_replay(&args.file, args.seek).map_err(failure)?;
+    let warnings = session
+        .replay()
+        .map_or(Vec::new(), |r| r.warnings().to_vec());
+    let options = args.display.options()?;
+    match app::run_session(session, options) {
+        Ok(summary) => {
+            // The panel showed them; the terminal gets them too, once the window is gone.
+            for w in warnings {
+                eprintln!("warning: {}: {w}", args.file.display());
+            }
+            super::window::report(&args.display, &summary);
+            match summary.replay {
+                Some(verdict) => verdict_of_window(args, &verdict),
+                None => Ok(()),
+            }
+        }
+        Err(e @ (AppError::NoDisplay(_) | AppError::Gpu(_))) => {
+            eprintln!("warning: no window ({e}); printing the replay's table instead");
+            headless(args)
+        }
+        Err(e) => Err(super::window::window_failure(e)),
+    }
+}
+
+/// The window's replay on the command line: the verdict line, or the report and exit 1.
+fn verdict_of_window(args: &ReplayArgs, verdict: &ReplayVerdict) -> Result<(), Failure> {
+    if let Some(d) = &verdict.parted {
+        print!("{}", d.report(args.diff_limit));
+        return Err(fail(EXIT_MISMATCH, verdict.line()));
+    }
+    if let Some(e) = &verdict.error {
+        return Err(fail(EXIT_INPUT, e));
+    }
+    println!("{}", verdict.line());
+    Ok(())
+}
+
+/// The verdict (`--verify`) or the table, without a window.
+fn headless(args: &ReplayArgs) -> Result<(), Failure> {
     let mut replay = open(args)?;
     let file = replay.recording().label().to_string();
     if args.verify {
@@ -139,9 +212,9 @@ fn play<R: std::io::Read + std::io::Seek>(
     let stdout = std::io::stdout().lock();
     let mut table = TableWriter::new(
         std::io::BufWriter::new(stdout),
-        args.format,
-        args.every,
-        args.precision,
+        args.format.unwrap_or(Format::Table),
+        args.every.unwrap_or(1),
+        args.precision.unwrap_or(4),
         !args.no_table,
     );
     let io = |e: volley::sim_loop::ObserverError| fail(EXIT_ENVIRONMENT, e);

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use volley::app::{self, AppError, WindowOptions};
+use volley::app::{self, AppError, RunSummary, WindowOptions};
 use volley::integrate::Integrator;
 
 use super::headless::{HeadlessArgs, load_scene, parse_integrator};
@@ -27,6 +27,21 @@ pub struct WindowArgs {
     /// explicit-euler,semi-implicit-euler,verlet,rk4).
     #[arg(long, value_name = "LIST")]
     pub compare: Option<String>,
+    /// How the window shows and paces frames.
+    #[command(flatten)]
+    pub display: DisplayArgs,
+    /// Do not reload the scene when its file is saved.
+    #[arg(long)]
+    pub no_watch: bool,
+    /// Record the first lane from tick 0 to this file (the record toggle then shows it
+    /// running; toggled off and on again, later recordings go to recordings/).
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
+}
+
+/// The window options `volley window` and `volley replay` share: size, pacing, closing.
+#[derive(Args, Clone, Debug)]
+pub struct DisplayArgs {
     /// Close after drawing this many frames (exit code 0).
     #[arg(long, value_name = "N")]
     pub exit_after_frames: Option<u64>,
@@ -46,9 +61,54 @@ pub struct WindowArgs {
     /// Sim seconds per real second at start (0 to 100).
     #[arg(long, default_value_t = 1.0)]
     pub time_scale: f64,
-    /// Do not reload the scene when its file is saved.
-    #[arg(long)]
-    pub no_watch: bool,
+}
+
+impl Default for DisplayArgs {
+    /// The command line's defaults.
+    fn default() -> Self {
+        DisplayArgs {
+            exit_after_frames: None,
+            screenshot: None,
+            size: "1280x800".into(),
+            frame_rate: None,
+            paused: false,
+            time_scale: 1.0,
+        }
+    }
+}
+
+impl DisplayArgs {
+    /// Checks the options and makes the window's options of them (compare mode off, no
+    /// scenes for the picker, watching off, no recording: the caller fills those in).
+    pub fn options(&self) -> Result<WindowOptions, Failure> {
+        let size = super::frames::parse_size("--size", &self.size)?;
+        if let Some(hz) = self.frame_rate
+            && !(hz.is_finite() && hz > 0.0)
+        {
+            return Err(fail(
+                EXIT_INPUT,
+                format!("--frame-rate: expected a rate > 0, got {hz}"),
+            ));
+        }
+        if !(self.time_scale.is_finite() && (0.0..=100.0).contains(&self.time_scale)) {
+            return Err(fail(
+                EXIT_INPUT,
+                "--time-scale: expected a number from 0 to 100",
+            ));
+        }
+        Ok(WindowOptions {
+            compare: Vec::new(),
+            exit_after_frames: self.exit_after_frames,
+            screenshot: self.screenshot.clone(),
+            size,
+            frame_rate: self.frame_rate,
+            paused: self.paused,
+            time_scale: self.time_scale,
+            watch: false,
+            scenes: Vec::new(),
+            record: None,
+        })
+    }
 }
 
 /// `volley` with no arguments: the window on the seed scene.
@@ -58,13 +118,9 @@ pub fn default_run() -> Result<(), Failure> {
         integrator: None,
         dt: None,
         compare: None,
-        exit_after_frames: None,
-        screenshot: None,
-        size: "1280x800".into(),
-        frame_rate: None,
-        paused: false,
-        time_scale: 1.0,
+        display: DisplayArgs::default(),
         no_watch: false,
+        record: None,
     })
 }
 
@@ -109,46 +165,43 @@ pub fn run(args: &WindowArgs) -> Result<(), Failure> {
         dt: args.dt,
         ..HeadlessArgs::for_scene(&args.scene)
     })?;
-    let size = super::frames::parse_size("--size", &args.size)?;
-    if let Some(hz) = args.frame_rate
-        && !(hz.is_finite() && hz > 0.0)
-    {
-        return Err(fail(
-            EXIT_INPUT,
-            format!("--frame-rate: expected a rate > 0, got {hz}"),
-        ));
-    }
-    if !(args.time_scale.is_finite() && (0.0..=100.0).contains(&args.time_scale)) {
-        return Err(fail(
-            EXIT_INPUT,
-            "--time-scale: expected a number from 0 to 100",
-        ));
-    }
     let compare = match &args.compare {
         Some(list) => parse_compare(list)?,
         None => Vec::new(),
     };
     let options = WindowOptions {
         compare,
-        exit_after_frames: args.exit_after_frames,
-        screenshot: args.screenshot.clone(),
-        size,
-        frame_rate: args.frame_rate,
-        paused: args.paused,
-        time_scale: args.time_scale,
         watch: !args.no_watch,
         scenes: bundled_scenes(),
+        record: args.record.clone(),
+        ..args.display.options()?
     };
-    let summary = app::run(scene, &path, options).map_err(|e| match e {
+    let summary = app::run(scene, &path, options).map_err(window_failure)?;
+    report(&args.display, &summary);
+    Ok(())
+}
+
+/// Every window error is the environment's (exit code 4).
+pub fn window_failure(e: AppError) -> Failure {
+    match e {
         AppError::NoDisplay(_) | AppError::Gpu(_) | AppError::Io(_) => fail(EXIT_ENVIRONMENT, e),
-    })?;
-    if let (Some(_), Some(interval), Some(work)) =
-        (args.exit_after_frames, summary.interval_ms, summary.work_ms)
-    {
+    }
+}
+
+/// Prints what a window run leaves behind: its recordings, one line each, and with a frame
+/// limit the median frame time.
+pub fn report(display: &DisplayArgs, summary: &RunSummary) {
+    for r in &summary.recordings {
+        println!("{r}");
+    }
+    if let (Some(_), Some(interval), Some(work)) = (
+        display.exit_after_frames,
+        summary.interval_ms,
+        summary.work_ms,
+    ) {
         println!(
             "window: {} frames, median frame {interval:.2} ms, of which work {work:.2} ms, on {}",
             summary.frames, summary.adapter
         );
     }
-    Ok(())
 }

@@ -1,0 +1,276 @@
+//! The window's record toggle: a [`Recorder`] on the session's first lane, composed with the
+//! lane's [`TickHistory`], started and ended between frames.
+//!
+//! A recording made in the window is the same file `volley record` writes: it starts at the tick
+//! the toggle was pressed (its first keyframe is that state), holds every command the window
+//! pushed from then on (they reach the recorder through [`SimLoop::push`](crate::SimLoop::push)
+//! and [`TickObserver::on_command`]), a hash every tick and a keyframe every
+//! [`RecordOptions::default`] interval, and is flushed at least every 50 ms, so a crash leaves
+//! a readable file truncated after its last flushed tick. Ending it (the toggle, a restart that
+//! rebuilds the world, a divergence of the lane, closing the window) writes the final keyframe
+//! and the footer.
+
+use std::fs::File;
+use std::io::ErrorKind;
+use std::path::{Path, PathBuf};
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use super::Session;
+
+use crate::command::Stamped;
+use crate::render::TickHistory;
+use crate::replay::{RecordOptions, RecordStats, Recorder};
+use crate::sim_loop::{ObserverError, TickObserver};
+use crate::world::{Divergence, World};
+
+/// Folder (relative to the working directory) that recordings go to when no file is named.
+pub const DEFAULT_DIR: &str = "recordings";
+
+/// A recording in progress.
+pub struct LiveRecording {
+    recorder: Recorder<File>,
+    path: PathBuf,
+    /// The first write error; the recording stops taking ticks after it.
+    error: Option<String>,
+}
+
+impl std::fmt::Debug for LiveRecording {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LiveRecording")
+            .field("path", &self.path)
+            .field("stats", &self.recorder.stats())
+            .field("error", &self.error)
+            .finish()
+    }
+}
+
+impl LiveRecording {
+    /// Creates `path` (and its folder) and starts recording `world` as it is now; `scene_file`
+    /// names the scene in the header.
+    pub fn start(path: &Path, world: &World, scene_file: &str) -> Result<LiveRecording, String> {
+        let fail = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| {
+                let dir = dir.display();
+                format!("{}: cannot create its folder {dir}: {e}", path.display())
+            })?;
+        }
+        let file = File::create(path).map_err(fail)?;
+        let options = RecordOptions {
+            scene_file: scene_file.to_string(),
+            ..RecordOptions::default()
+        };
+        let recorder = Recorder::start(file, world, options).map_err(fail)?;
+        Ok(LiveRecording {
+            recorder,
+            path: path.to_path_buf(),
+            error: None,
+        })
+    }
+
+    /// The file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// What was written so far.
+    pub fn stats(&self) -> RecordStats {
+        self.recorder.stats()
+    }
+
+    /// The write error that stopped the recording, if one did.
+    pub fn error(&self) -> Option<&str> {
+        self.error.as_deref()
+    }
+
+    /// Ends the recording at `world`'s tick (final keyframe, footer), noting why it ended.
+    pub fn finish(self, world: &World, ended: &str) -> FinishedRecording {
+        let (stats, error) = match (self.error, self.recorder.finish(world)) {
+            (Some(e), _) => (None, Some(e)),
+            (None, Ok((_, stats))) => (Some(stats), None),
+            (None, Err(e)) => (None, Some(format!("cannot write: {e}"))),
+        };
+        FinishedRecording {
+            path: self.path,
+            scene: world.scene().name.clone(),
+            stats,
+            ended: ended.to_string(),
+            error,
+        }
+    }
+
+    /// Forwards one observer call unless an earlier one failed; a failure is kept, not
+    /// returned, so the simulation goes on without the recording.
+    fn forward(&mut self, call: impl FnOnce(&mut Recorder<File>) -> Result<(), ObserverError>) {
+        if self.error.is_none()
+            && let Err(e) = call(&mut self.recorder)
+        {
+            self.error = Some(e.0);
+        }
+    }
+}
+
+/// A recording that ended.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FinishedRecording {
+    /// The file.
+    pub path: PathBuf,
+    /// The scene's name.
+    pub scene: String,
+    /// The final counts, when the footer was written.
+    pub stats: Option<RecordStats>,
+    /// Why it ended: stopped, a restart, a divergence, the window closing.
+    pub ended: String,
+    /// The write error that cut it short, if any (the file then holds what was flushed, and
+    /// opens as truncated).
+    pub error: Option<String>,
+}
+
+impl std::fmt::Display for FinishedRecording {
+    /// One line, as `volley record` prints it, with why the recording ended.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let path = self.path.display();
+        match (&self.stats, &self.error) {
+            (Some(s), None) => write!(
+                f,
+                "recorded ticks {}..={} of `{}` to {path}: {} bytes, {} hashes, {} keyframes, \
+                 {} commands ({})",
+                s.start_tick,
+                s.last_tick,
+                self.scene,
+                s.bytes,
+                s.hashes,
+                s.keyframes,
+                s.commands,
+                self.ended
+            ),
+            (_, Some(e)) => write!(
+                f,
+                "recording to {path} failed ({e}); what was flushed opens as truncated"
+            ),
+            (None, None) => write!(f, "recording to {path} ended ({})", self.ended),
+        }
+    }
+}
+
+impl Session {
+    /// Starts recording the first lane (in compare mode: the first integrator's world) from its
+    /// current tick, to `path` or to [`default_path`] in the working directory. Refused while
+    /// replaying, while recording, and while the lane is stopped by a divergence.
+    pub fn start_recording(&mut self, path: Option<PathBuf>) -> Result<(), String> {
+        if self.replay.is_some() {
+            return Err(
+                "replaying: the replay is a recording already (Go live first to record from \
+                 here)"
+                    .into(),
+            );
+        }
+        if let Some(r) = &self.recording {
+            return Err(format!("already recording to {}", r.path().display()));
+        }
+        let lane = &self.lanes[0];
+        if let Some(d) = lane.stopped {
+            return Err(format!("the lane {d}: reset before recording"));
+        }
+        let path = path.unwrap_or_else(|| {
+            let now = SystemTime::now().duration_since(UNIX_EPOCH);
+            default_path(
+                Path::new(""),
+                &self.scene.name,
+                now.map_or(0, |d| d.as_secs()),
+            )
+        });
+        let recording = LiveRecording::start(&path, &lane.sim.world, &self.scene_file)?;
+        self.recording = Some(recording);
+        Ok(())
+    }
+
+    /// Ends the recording, if one is running, at the first lane's tick (final keyframe and
+    /// footer), noting why; returns it.
+    pub fn stop_recording(&mut self, ended: &str) -> Option<&FinishedRecording> {
+        let recording = self.recording.take()?;
+        let finished = recording.finish(&self.lanes[0].sim.world, ended);
+        self.recordings.push(finished);
+        self.recordings.last()
+    }
+
+    /// Starts or stops recording (the panel's button and its key); a refusal goes to the panel.
+    pub fn toggle_recording(&mut self) {
+        if self.recording.is_some() {
+            self.stop_recording("stopped");
+        } else if let Err(e) = self.start_recording(None) {
+            self.last_error = Some(e);
+        }
+    }
+
+    /// The recording in progress.
+    pub fn recording(&self) -> Option<&LiveRecording> {
+        self.recording.as_ref()
+    }
+
+    /// The recordings this session finished, oldest first.
+    pub fn recordings(&self) -> &[FinishedRecording] {
+        &self.recordings
+    }
+}
+
+/// `recordings/<scene>-<unix time>.vrec` under `dir`, with `-2`, `-3`, ... added when that file
+/// exists (two recordings in one second); characters other than letters, digits, `-`, `_` and
+/// `.` in the scene name become `_`.
+pub fn default_path(dir: &Path, scene: &str, unix_seconds: u64) -> PathBuf {
+    let name: String = scene
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let base = dir.join(DEFAULT_DIR);
+    (1..)
+        .map(|n| match n {
+            1 => base.join(format!("{name}-{unix_seconds}.vrec")),
+            n => base.join(format!("{name}-{unix_seconds}-{n}.vrec")),
+        })
+        .find(|p| matches!(std::fs::symlink_metadata(p), Err(e) if e.kind() == ErrorKind::NotFound))
+        .expect("some numbered name is free")
+}
+
+/// The first lane's observer while it records: the recorder first, then the history, for every
+/// call (the recorder has written a tick before anything draws it).
+pub(crate) struct Recorded<'a> {
+    /// The recording.
+    pub recording: &'a mut LiveRecording,
+    /// The lane's history.
+    pub history: &'a mut TickHistory,
+}
+
+impl TickObserver for Recorded<'_> {
+    fn on_command(&mut self, world: &World, stamped: &Stamped) -> Result<(), ObserverError> {
+        self.recording.forward(|r| r.on_command(world, stamped));
+        self.history.on_command(world, stamped)
+    }
+
+    fn before_last_tick(&mut self, world: &World) {
+        self.recording.forward(|r| {
+            r.before_last_tick(world);
+            Ok(())
+        });
+        self.history.before_last_tick(world);
+    }
+
+    fn after_tick(&mut self, world: &World) -> Result<(), ObserverError> {
+        self.recording.forward(|r| r.after_tick(world));
+        self.history.after_tick(world)
+    }
+
+    fn on_divergence(&mut self, world: &World, divergence: &Divergence) {
+        self.recording.forward(|r| {
+            r.on_divergence(world, divergence);
+            Ok(())
+        });
+        self.history.on_divergence(world, divergence);
+    }
+}

@@ -1,0 +1,277 @@
+//! A recording played back in the window: the recording's scene and its stamped commands drive
+//! the session's loop (scheduled with [`crate::SimLoop::schedule`] by [`Verifier::start`]),
+//! the window's frame deltas drive its clock (pause, single step and time scale work as in a
+//! live run), and a [`Verifier`] compares every stored hash and keyframe as the ticks run.
+//!
+//! While a replay runs, nothing may change the simulation (fire, launch, integrator, reset, dt,
+//! substeps, compare mode): the panel disables those controls and the keys say why. Going live
+//! ends the replay and keeps the state, so the user can take over from any tick.
+
+use std::fs::File;
+use std::io::BufReader;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use super::{Lane, Session};
+use crate::clock::{FrameTicks, VirtualClock};
+use crate::hash::{hex, state_hash};
+use crate::render::SceneBounds;
+use crate::replay::{FirstDivergence, Recording, ReplayError, Verifier};
+use crate::sim_loop::{LoopError, SimLoop};
+use crate::world::{Divergence, World};
+
+impl Session {
+    /// Replays the recording `path` in this session (from the keyframe at or before `seek`,
+    /// then re-simulated to `seek`): one lane, the recording's scene, step and integrator. A
+    /// recording in progress ends first; compare mode ends. On an error nothing changes.
+    pub fn start_replay(&mut self, path: &Path, seek: Option<u64>) -> Result<(), ReplayError> {
+        let (replay, sim) = SessionReplay::open(path, seek)?;
+        self.stop_recording("a replay started");
+        self.end_replay();
+        self.compare.clear();
+        self.install_replay(replay, sim);
+        Ok(())
+    }
+
+    /// Makes `replay` (with its loop) the session's only lane.
+    pub(super) fn install_replay(&mut self, replay: SessionReplay, mut sim: SimLoop) {
+        self.scene = replay.verifier().scene().clone();
+        self.bounds = SceneBounds::of_scene(&self.scene);
+        self.path = replay.file().to_path_buf();
+        self.scene_file = replay.verifier().recording().header().scene_file.clone();
+        self.embedded = true;
+        sim.world.set_threads(self.threads);
+        self.tune(&mut sim);
+        self.lanes = vec![Lane::new(sim, self.bounds.center())];
+        self.last = FrameTicks::default();
+        self.replay = Some(replay);
+    }
+
+    /// Ends the replay and keeps its state: the lane runs on live from the tick it reached,
+    /// without the recording's remaining commands. Returns false if nothing was replaying.
+    pub fn go_live(&mut self) -> bool {
+        if self.replay.is_none() {
+            return false;
+        }
+        self.end_replay();
+        let lane = &mut self.lanes[0];
+        let mut live = SimLoop::new(lane.sim.world.clone());
+        live.clock = lane.sim.clock.clone();
+        lane.sim = live;
+        // The replayed commands count as applied; nothing pushed is pending.
+        lane.pushed = lane.history.commands_applied() + lane.refused;
+        true
+    }
+
+    /// Forgets the replay, keeping its verdict.
+    pub(super) fn end_replay(&mut self) {
+        if let Some(replay) = self.replay.take() {
+            self.last_replay = Some(replay.verdict(&self.lanes[0].sim.world));
+        }
+    }
+
+    /// The replay being played.
+    pub fn replay(&self) -> Option<&SessionReplay> {
+        self.replay.as_ref()
+    }
+
+    /// The verdict of the replay being played, or else of the last one this session played.
+    pub fn replay_verdict(&self) -> Option<ReplayVerdict> {
+        match &self.replay {
+            Some(r) => Some(r.verdict(&self.lanes[0].sim.world)),
+            None => self.last_replay.clone(),
+        }
+    }
+}
+
+/// One frame of the replay's lane: the verifier runs the lane's loop with the lane's history as
+/// the observer. A read error stops the replay (kept for the panel), not the window.
+pub(super) fn frame(
+    replay: &mut SessionReplay,
+    lane: &mut Lane,
+    delta: Duration,
+) -> Result<FrameTicks, LoopError> {
+    if replay.error.is_some() {
+        return Ok(FrameTicks::default());
+    }
+    match replay
+        .verifier
+        .frame(&mut lane.sim, delta, &mut lane.history)
+    {
+        Ok(ticks) => Ok(ticks),
+        Err(e) => {
+            replay.error = Some(e.to_string());
+            Ok(FrameTicks::default())
+        }
+    }
+}
+
+/// The replay a session is playing.
+pub struct SessionReplay {
+    verifier: Verifier<BufReader<File>>,
+    file: PathBuf,
+    warnings: Vec<String>,
+    error: Option<String>,
+    /// Whether the session has already paused for this replay's mismatch.
+    pub(crate) alarmed: bool,
+}
+
+impl std::fmt::Debug for SessionReplay {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SessionReplay")
+            .field("file", &self.file)
+            .field("hashes_checked", &self.verifier.hashes_checked())
+            .field("error", &self.error)
+            .finish()
+    }
+}
+
+impl SessionReplay {
+    /// Opens `path` and prepares its loop, at the keyframe at or before `seek` and then
+    /// re-simulated to `seek` itself (checked as it goes). Warnings (another Volley version or
+    /// target, a truncated file) are kept for the panel.
+    pub fn open(path: &Path, seek: Option<u64>) -> Result<(SessionReplay, SimLoop), ReplayError> {
+        let recording = Recording::open(path)?;
+        let mut warnings: Vec<String> = recording
+            .build_warnings()
+            .into_iter()
+            .map(|w| format!("{w}; replaying anyway and verifying honestly"))
+            .collect();
+        if recording.truncated_at().is_some() {
+            warnings.push(format!(
+                "truncated after tick {} (no footer): replaying the ticks it holds",
+                recording.end_tick()
+            ));
+        }
+        let end = recording.end_tick();
+        if let Some(s) = seek.filter(|&s| s > end) {
+            let file = path.display().to_string();
+            return Err(ReplayError::input(
+                &file,
+                None,
+                format!("seek {s}: the recording ends at tick {end}"),
+            ));
+        }
+        let (mut verifier, mut sim) = Verifier::start(recording, seek)?;
+        if let Some(tick) = seek {
+            let mut source = VirtualClock::Steady(verifier.scene().timestep);
+            verifier.run_to(&mut sim, &mut source, tick, &mut ())?;
+        }
+        let replay = SessionReplay {
+            verifier,
+            file: path.to_path_buf(),
+            warnings,
+            error: None,
+            alarmed: false,
+        };
+        Ok((replay, sim))
+    }
+
+    /// The verifier (what was compared, what differed).
+    pub fn verifier(&self) -> &Verifier<BufReader<File>> {
+        &self.verifier
+    }
+
+    /// The recording file.
+    pub fn file(&self) -> &Path {
+        &self.file
+    }
+
+    /// The recording's last tick.
+    pub fn end_tick(&self) -> u64 {
+        self.verifier.recording().end_tick()
+    }
+
+    /// Warnings about the file: another build, truncation.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// The read error that stopped the replay, if one did.
+    pub fn error(&self) -> Option<&str> {
+        self.error.as_deref()
+    }
+
+    /// Whether nothing more will run: the end, a divergence, a mismatch or an error.
+    pub fn is_over(&self, world: &World) -> bool {
+        self.error.is_some() || self.verifier.is_done(world)
+    }
+
+    /// The outcome so far, for the panel and for the command line when the window closes.
+    pub fn verdict(&self, world: &World) -> ReplayVerdict {
+        let v = &self.verifier;
+        ReplayVerdict {
+            file: self.file.display().to_string(),
+            from: v.started_at(),
+            at: world.tick(),
+            end: self.end_tick(),
+            hashes: v.hashes_checked(),
+            keyframes: v.keyframes_checked(),
+            final_hash: state_hash(world),
+            parted: v.parted().cloned(),
+            reproduced: world.divergence(),
+            error: self.error.clone(),
+        }
+    }
+}
+
+/// Where a replay stands: how far it got, what it compared, and whether it parted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReplayVerdict {
+    /// The recording.
+    pub file: String,
+    /// The tick the replay started at.
+    pub from: u64,
+    /// The tick it reached.
+    pub at: u64,
+    /// The recording's last tick.
+    pub end: u64,
+    /// Stored hashes compared.
+    pub hashes: u64,
+    /// Keyframes compared field by field.
+    pub keyframes: u64,
+    /// The state hash at `at`.
+    pub final_hash: u64,
+    /// The first divergence, if the replay parted (its field list is empty until the keyframe
+    /// that completes the report was reached).
+    pub parted: Option<FirstDivergence>,
+    /// A divergence of the replayed world (the recording's own, reproduced, unless `parted`
+    /// says otherwise).
+    pub reproduced: Option<Divergence>,
+    /// A read error that stopped the replay.
+    pub error: Option<String>,
+}
+
+impl ReplayVerdict {
+    /// One line: verified (the whole recording), matching so far (stopped early), or parted.
+    pub fn line(&self) -> String {
+        let compared = format!(
+            "{} hashes and {} keyframes compared",
+            self.hashes, self.keyframes
+        );
+        if let Some(d) = &self.parted {
+            return format!(
+                "{}: the replay parts from the recording at tick {}",
+                self.file, d.tick
+            );
+        }
+        let mut line = if self.at >= self.end {
+            format!(
+                "verified {} ticks, final hash {} (ticks {}..={}: {compared}",
+                self.at - self.from,
+                hex(self.final_hash),
+                self.from,
+                self.at
+            )
+        } else {
+            format!(
+                "replayed ticks {}..={} of {} (it ends at tick {}): all equal so far ({compared}",
+                self.from, self.at, self.file, self.end
+            )
+        };
+        if let Some(d) = &self.reproduced {
+            line += &format!("; the recorded divergence reproduced: {d}");
+        }
+        line + ")"
+    }
+}
