@@ -35,7 +35,7 @@ enum Cmd {
     Study(cli::study::StudyArgs),
     /// Run a scene headless and write a recording (commands, hashes, keyframes).
     Record(cli::record::RecordArgs),
-    /// Play a recording back as a table, or verify it bit for bit (--verify).
+    /// Play a recording back in the window (a table with --headless), or verify it (--verify).
     Replay(cli::replay::ReplayArgs),
     /// Open the sandbox window (what `volley` alone does, on the seed scene).
     Window(cli::window::WindowArgs),

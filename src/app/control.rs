@@ -15,10 +15,6 @@ impl App {
             Action::Step => s.single_step(),
             Action::SetTimeScale(x) => s.set_time_scale(x),
             Action::ScaleTime(f) => s.set_time_scale((s.time_scale() * f).clamp(1e-3, 100.0)),
-            Action::SetDt(dt) => {
-                let substeps = s.scene().substeps;
-                self.set_step(dt, substeps);
-            }
             Action::SetStep { dt, substeps } => self.set_step(dt, substeps),
             Action::ScaleDt(f) => {
                 let (dt, substeps) = (s.scene().dt() * f, s.scene().substeps);

@@ -20,8 +20,6 @@ pub enum Action {
     SetTimeScale(f64),
     /// Multiply the time scale.
     ScaleTime(f64),
-    /// Set the timestep (s): restarts at tick 0.
-    SetDt(f64),
     /// Set the timestep (s) and the integrator steps per tick: restarts at tick 0.
     SetStep {
         /// Timestep (s).

@@ -42,7 +42,7 @@ pub struct WindowArgs {
 /// The window options `volley window` and `volley replay` share: size, pacing, closing.
 #[derive(Args, Clone, Debug)]
 pub struct DisplayArgs {
-    /// Close after drawing this many frames (exit code 0).
+    /// Close after drawing this many frames (exit code 0, or 1 for a replay that parted).
     #[arg(long, value_name = "N")]
     pub exit_after_frames: Option<u64>,
     /// Save the last frame, panel included, to this PNG before closing.

@@ -79,8 +79,10 @@ fn replaying(ui: &mut Ui, session: &Session, replay: &SessionReplay, out: &mut V
     let world = session.world();
     let v = replay.verifier();
     let (from, end, tick) = (v.started_at(), replay.end_tick(), world.tick());
-    ui.strong(format!("Replaying {}", replay.file().display()));
-    ui.label(format!("tick {tick} of {end}"));
+    ui.strong(format!(
+        "replaying {}, tick {tick} of {end}",
+        replay.file().display()
+    ));
     let done = (tick - from) as f32 / (end - from).max(1) as f32;
     ui.add(egui::ProgressBar::new(done).desired_height(6.0));
     for w in replay.warnings() {

@@ -44,6 +44,7 @@ impl Session {
         self.tune(&mut sim);
         self.lanes = vec![Lane::new(sim, self.bounds.center())];
         self.last = FrameTicks::default();
+        self.last_error = None;
         self.replay = Some(replay);
     }
 
@@ -54,6 +55,7 @@ impl Session {
             return false;
         }
         self.end_replay();
+        self.last_error = None;
         let lane = &mut self.lanes[0];
         let mut live = SimLoop::new(lane.sim.world.clone());
         live.clock = lane.sim.clock.clone();
