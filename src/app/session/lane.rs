@@ -1,0 +1,65 @@
+//! One simulation of a session: its loop, what drawing needs of its ticks, whether a divergence
+//! stopped it, and the stability pre-check of its world.
+
+use glam::DVec3;
+
+use crate::render::TickHistory;
+use crate::render::draw::{self, Rgba};
+use crate::sim_loop::SimLoop;
+use crate::stability::{StabilityReport, check_world};
+use crate::world::Divergence;
+
+/// One simulation of the session.
+#[derive(Debug)]
+pub struct Lane {
+    /// The loop (world, clock, queued commands).
+    pub sim: SimLoop,
+    /// Previous state, trails and references for drawing.
+    pub history: TickHistory,
+    /// The divergence that stopped the lane, if one did (the lane then runs no ticks).
+    pub stopped: Option<Divergence>,
+    /// Commands pushed to this lane so far.
+    pub pushed: u64,
+    /// Commands the loop refused.
+    pub refused: u64,
+    /// The stability pre-check of this lane's world (its integrator, dt and substeps).
+    pub stability: StabilityReport,
+    /// The pre-check's warnings (empty when the lane's integrator is stable at its step).
+    pub warnings: Vec<String>,
+}
+
+impl Lane {
+    /// A lane running `sim`, drawn relative to `origin`.
+    pub(super) fn new(sim: SimLoop, origin: DVec3) -> Lane {
+        let stability = check_world(&sim.world);
+        Lane {
+            history: TickHistory::new(&sim.world, origin),
+            warnings: stability.warnings(),
+            stability,
+            sim,
+            stopped: None,
+            pushed: 0,
+            refused: 0,
+        }
+    }
+
+    /// Recomputes the pre-check if a command switched the integrator (dt, substeps and scene
+    /// change only by building new lanes).
+    pub(super) fn refresh_stability(&mut self) {
+        if self.stability.chosen != self.sim.world.integrator() {
+            self.stability = check_world(&self.sim.world);
+            self.warnings = self.stability.warnings();
+        }
+    }
+
+    /// The colour of the lane's integrator.
+    pub fn colour(&self) -> Rgba {
+        draw::integrator_colour(self.sim.world.integrator())
+    }
+
+    /// Commands pushed but not yet applied (they wait for the next tick).
+    pub fn pending(&self) -> u64 {
+        self.pushed
+            .saturating_sub(self.history.commands_applied() + self.refused)
+    }
+}
