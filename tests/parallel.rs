@@ -81,6 +81,7 @@ fn contacts_and_events_are_the_same_on_one_two_and_three_threads() {
     let one = run(&scene, 1, 30);
     let bodies_with_events = {
         let mut ids: Vec<_> = one.1.iter().map(|e| e.body).collect();
+        ids.sort();
         ids.dedup();
         ids.len()
     };
