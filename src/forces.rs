@@ -178,9 +178,11 @@ impl Forces {
 
     /// The same forces as a [`ConstantField`], if gravity and a constant force are all there is.
     pub fn constant_field(&self) -> Option<ConstantField> {
-        let only_constant = self.kinds().all(|k| {
-            matches!(k, ForceKind::Gravity | ForceKind::ConstantForce)
-        });
+        // Direct field tests rather than `kinds()`: this runs every tick.
+        let only_constant = self.linear_drag.is_none()
+            && self.quadratic_drag.is_none()
+            && self.spring.is_none()
+            && self.point_mass.is_none();
         only_constant.then(|| ConstantField {
             gravity: self.gravity.unwrap_or(DVec3::ZERO),
             force: self.constant.unwrap_or(DVec3::ZERO),

@@ -143,10 +143,17 @@ impl World {
 }
 
 fn first_over_cap<F: ForceModel>(b: &crate::world::Bodies, f: &F) -> Option<(usize, f64)> {
-    (0..b.len()).find_map(|i| {
-        let e = f.energy(b.p.get(i), b.velocity(i), b.mass[i]);
+    let n = b.len();
+    let (p, mv) = (&b.p, &b.mv);
+    let (px, py, pz) = (&p.x[..n], &p.y[..n], &p.z[..n]);
+    let (mx, my, mz) = (&mv.x[..n], &mv.y[..n], &mv.z[..n]);
+    let (mass, inv_mass, cap) = (&b.mass[..n], &b.inv_mass[..n], &b.energy_cap[..n]);
+    (0..n).find_map(|i| {
+        // The velocity as `Bodies::velocity` forms it, from slices the compiler can see whole.
+        let v = DVec3::new(mx[i], my[i], mz[i]) * inv_mass[i];
+        let e = f.energy(DVec3::new(px[i], py[i], pz[i]), v, mass[i]);
         // NaN energy is caught by the non-finite check; `>` keeps it from tripping twice.
-        (e > b.energy_cap[i]).then_some((i, e))
+        (e > cap[i]).then_some((i, e))
     })
 }
 
@@ -380,8 +387,11 @@ fn run<S: Scheme, const CONTACTS: bool>(
     frame: &StepFrame,
     events: &mut Vec<Event>,
 ) -> KernelOut {
+    // A vector loop only pays off once there is a vector's worth of bodies; the versions give
+    // the same bits, so this is only about speed.
     #[cfg(target_arch = "x86_64")]
     match simd_level() {
+        _ if l.len() < 8 => {}
         // SAFETY: `simd_level` returns a level only if the CPU supports its features.
         SimdLevel::Avx512 => return unsafe { run_avx512::<S, CONTACTS>(scheme, l, frame, events) },
         SimdLevel::Avx2 => return unsafe { run_avx2::<S, CONTACTS>(scheme, l, frame, events) },
