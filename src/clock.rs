@@ -363,7 +363,11 @@ mod tests {
         for a in samples {
             assert_eq!(nanos_f64(a), a.as_nanos() as f64, "{a:?}");
             for b in samples.iter().filter(|b| !b.is_zero()) {
-                assert_eq!(whole_steps(a, *b), a.as_nanos() / b.as_nanos(), "{a:?} / {b:?}");
+                assert_eq!(
+                    whole_steps(a, *b),
+                    a.as_nanos() / b.as_nanos(),
+                    "{a:?} / {b:?}"
+                );
             }
         }
     }
