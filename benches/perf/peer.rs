@@ -3,9 +3,11 @@
 //! Each rapier body is dynamic, has no collider (so no broad or narrow phase work) and carries
 //! the Volley body's mass as additional mass (a rapier body without colliders is massless and
 //! gravity, applied as a force `m g`, would not move it); sleeping is off. Rapier integrates with
-//! semi-implicit Euler, so Volley's semi-implicit Euler is the like-for-like speed comparison;
-//! the position error of every contender against the closed form `p0 + v0 t + g t^2 / 2` after
-//! [`ERROR_TICKS`] ticks is reported beside the speed.
+//! semi-implicit Euler in `num_solver_iterations` (default 4) substeps of each step, so Volley's
+//! semi-implicit Euler at 1 substep is the like-for-like speed comparison per step, and at
+//! [`RAPIER_SUBSTEPS`] substeps the like-for-like accuracy; the position error of every
+//! contender against the closed form `p0 + v0 t + g t^2 / 2` after [`ERROR_TICKS`] ticks is
+//! reported beside the speed.
 
 use criterion::{BenchmarkId, Criterion, Throughput};
 use glam::DVec3;
@@ -21,12 +23,33 @@ pub const PEER_SIZES: [u64; 2] = [1_000, 100_000];
 /// Ticks after which positions are compared with the closed form: 1 s at 60 Hz.
 pub const ERROR_TICKS: u64 = 60;
 
-/// Volley's contenders in the error table.
-pub const VOLLEY_ERROR_INTEGRATORS: [Integrator; 3] = [
-    Integrator::SemiImplicitEuler,
-    Integrator::ExplicitEuler,
-    Integrator::VelocityVerlet,
+/// Substeps rapier takes per step with default parameters (`num_solver_iterations`).
+pub const RAPIER_SUBSTEPS: u32 = 4;
+
+/// Volley's contenders in the error table: integrator and substeps.
+pub const VOLLEY_CONTENDERS: [(Integrator, u32); 4] = [
+    (Integrator::SemiImplicitEuler, 1),
+    (Integrator::SemiImplicitEuler, RAPIER_SUBSTEPS),
+    (Integrator::ExplicitEuler, 1),
+    (Integrator::VelocityVerlet, 1),
 ];
+
+/// A Volley world of the gravity bench scene with `n` bodies, `integrator` and `substeps`.
+fn volley(n: u64, integrator: Integrator, substeps: u32) -> World {
+    let mut scene = BenchScene::Gravity.load(n, integrator);
+    scene
+        .set_substeps(substeps)
+        .expect("a positive substep count");
+    World::new(&scene)
+}
+
+/// The benchmark function name of a Volley contender.
+pub fn contender_name(integrator: Integrator, substeps: u32) -> String {
+    match substeps {
+        1 => format!("volley-{integrator}"),
+        n => format!("volley-{integrator}-{n}-substeps"),
+    }
+}
 
 /// Rapier's world holding the same bodies as a Volley world.
 pub struct Peer {
@@ -71,25 +94,30 @@ impl Peer {
     }
 }
 
-/// Benchmarks `peer/rapier3d-f64/N` and, beside it, `peer/volley-semi-implicit-euler/N`.
+/// Benchmarks `peer/rapier3d-f64/N` and, beside it, Volley's semi-implicit Euler at one and at
+/// [`RAPIER_SUBSTEPS`] substeps.
 pub fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("peer");
     for n in PEER_SIZES {
         sized(&mut group, n);
         group.sample_size(10);
         group.throughput(Throughput::Elements(n));
-        let world = || BenchScene::Gravity.world(n, Integrator::SemiImplicitEuler, 1);
         let mut peer = None;
         group.bench_function(BenchmarkId::new("rapier3d-f64", n), |b| {
-            let peer = peer.get_or_insert_with(|| Peer::like(&world()));
+            let peer = peer
+                .get_or_insert_with(|| Peer::like(&volley(n, Integrator::SemiImplicitEuler, 1)));
             b.iter(|| peer.step())
         });
         drop(peer);
-        let mut volley = None;
-        group.bench_function(BenchmarkId::new("volley-semi-implicit-euler", n), |b| {
-            let volley = volley.get_or_insert_with(world);
-            b.iter(|| volley.step().expect("the bench scene does not diverge"))
-        });
+        for substeps in [1, RAPIER_SUBSTEPS] {
+            let integrator = Integrator::SemiImplicitEuler;
+            let mut world = None;
+            let id = BenchmarkId::new(contender_name(integrator, substeps), n);
+            group.bench_function(id, |b| {
+                let world = world.get_or_insert_with(|| volley(n, integrator, substeps));
+                b.iter(|| world.step().expect("the bench scene does not diverge"))
+            });
+        }
     }
     group.finish();
 }
@@ -110,7 +138,7 @@ fn exact(p0: DVec3, v0: DVec3, g: DVec3, t: f64) -> DVec3 {
 
 /// Position errors of rapier and of Volley's contenders at `n` bodies.
 pub fn errors(n: u64) -> Vec<PeerError> {
-    let start = BenchScene::Gravity.world(n, Integrator::SemiImplicitEuler, 1);
+    let start = volley(n, Integrator::SemiImplicitEuler, 1);
     let g = start.forces().gravity.unwrap_or(DVec3::ZERO);
     let t = ERROR_TICKS as f64 * start.dt();
     let b = start.bodies();
@@ -127,16 +155,19 @@ pub fn errors(n: u64) -> Vec<PeerError> {
         peer.step();
     }
     let mut out = vec![PeerError {
-        who: "rapier3d-f64".into(),
+        who: format!("rapier3d-f64 (semi-implicit Euler, {RAPIER_SUBSTEPS} substeps)"),
         max_error: max_error(&|i| peer.position(i)),
     }];
-    for integrator in VOLLEY_ERROR_INTEGRATORS {
-        let mut world = BenchScene::Gravity.world(n, integrator, 1);
+    for (integrator, substeps) in VOLLEY_CONTENDERS {
+        let mut world = volley(n, integrator, substeps);
         for _ in 0..ERROR_TICKS {
             world.step().expect("the bench scene does not diverge");
         }
         out.push(PeerError {
-            who: format!("volley {integrator}"),
+            who: match substeps {
+                1 => format!("Volley {integrator}"),
+                k => format!("Volley {integrator}, {k} substeps"),
+            },
             max_error: max_error(&|i| world.bodies().positions().get(i)),
         });
     }
