@@ -98,6 +98,10 @@ pub const TRIAD_LEN: usize = 1 << 22;
 /// Bytes a triad element moves, by STREAM's count (two reads, one write).
 pub const TRIAD_BYTES: u64 = 24;
 
+/// Bytes a triad element really moves: STREAM's count plus the read of the line the write
+/// allocates.
+pub const TRIAD_MOVED: u64 = 32;
+
 /// `a = b + s c`, split into `chunks` contiguous pieces run with `rayon::join`.
 fn triad(a: &mut [f64], b: &[f64], c: &[f64], s: f64, chunks: usize) {
     if chunks <= 1 {
