@@ -12,8 +12,9 @@
 //! - `record`: recording overhead (a marked placeholder until the recorder lands);
 //! - `peer` (with `--features peer`): rapier3d-f64 stepping free bodies at the same dt.
 //!
-//! After criterion, the run times `volley headless seed --ticks 1000000 --no-table` as a process
-//! and prints every ratio computed from this run's numbers ([`report`]). With
+//! After criterion, the run times `volley headless seed --ticks 1000000 --no-table` as a process,
+//! times the comparisons the issue sets goals for once more interleaved ([`paired`]), and prints
+//! every ratio computed from this run's numbers ([`report`]). With
 //! `VOLLEY_BENCH_WRITE=BENCHMARKS.md` it also rewrites the generated block of that file;
 //! `scripts/bench` does exactly that.
 
@@ -24,6 +25,7 @@ use criterion::{BenchmarkGroup, Criterion};
 
 mod e2e;
 mod machine;
+mod paired;
 #[cfg(feature = "peer")]
 mod peer;
 mod reference;
@@ -78,6 +80,14 @@ fn main() {
             .iter()
             .any(|a| !a.starts_with('-') && a.parse::<f64>().is_err());
         let e2e = (!filtered).then(e2e::measure);
-        report::run(&dir, started, load_before, e2e);
+        let pairs = if filtered {
+            Vec::new()
+        } else {
+            let mut pairs = paired::all();
+            #[cfg(feature = "peer")]
+            pairs.extend(peer::paired());
+            pairs
+        };
+        report::run(&dir, started, load_before, e2e, &pairs);
     }
 }

@@ -173,3 +173,24 @@ pub fn errors(n: u64) -> Vec<PeerError> {
     }
     out
 }
+
+/// Name of the rapier-against-Volley pair at `n` bodies.
+pub fn paired_name(n: u64) -> String {
+    format!("rapier-vs-volley/{n}")
+}
+
+/// Rapier against Volley's semi-implicit Euler (one substep), timed interleaved.
+pub fn paired() -> Vec<crate::paired::Pair> {
+    PEER_SIZES
+        .iter()
+        .map(|&n| {
+            let mut world = volley(n, Integrator::SemiImplicitEuler, 1);
+            let mut peer = Peer::like(&world);
+            crate::paired::compare(
+                &paired_name(n),
+                || peer.step(),
+                || world.step().expect("the bench scene does not diverge"),
+            )
+        })
+        .collect()
+}

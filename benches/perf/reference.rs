@@ -103,7 +103,7 @@ pub const TRIAD_BYTES: u64 = 24;
 pub const TRIAD_MOVED: u64 = 32;
 
 /// `a = b + s c`, split into `chunks` contiguous pieces run with `rayon::join`.
-fn triad(a: &mut [f64], b: &[f64], c: &[f64], s: f64, chunks: usize) {
+pub fn triad(a: &mut [f64], b: &[f64], c: &[f64], s: f64, chunks: usize) {
     if chunks <= 1 {
         for ((a, b), c) in a.iter_mut().zip(b).zip(c) {
             *a = b + s * c;

@@ -12,6 +12,7 @@ use std::time::SystemTime;
 
 use crate::e2e::E2e;
 use crate::machine;
+use crate::paired::Pair;
 use crate::tables::{self, Estimate, Results};
 
 /// First line of the generated block in BENCHMARKS.md.
@@ -55,10 +56,17 @@ pub fn read_estimate(dir: &Path, id: &str, since: SystemTime) -> Option<Estimate
 }
 
 /// Builds the report, prints it, and writes it into `VOLLEY_BENCH_WRITE` if set and complete.
-pub fn run(dir: &Path, started: SystemTime, load_before: String, e2e: Option<Result<E2e, String>>) {
+pub fn run(
+    dir: &Path,
+    started: SystemTime,
+    load_before: String,
+    e2e: Option<Result<E2e, String>>,
+    pairs: &[Pair],
+) {
     let results = Results {
         dir: dir.to_path_buf(),
         since: started,
+        pairs: pairs.to_vec(),
     };
     let mut md = String::new();
     let _ = writeln!(md, "{BEGIN}");
