@@ -2,8 +2,10 @@
 //!
 //! Criterion measures one benchmark after another, a few seconds each, so a compile starting on
 //! the shared machine between two of them moves their ratio. Here the two sides of a comparison
-//! alternate within each round (A then B, then B then A), and the result is the median over the
-//! rounds of the per-round time ratio: load that drifts slowly affects both sides alike.
+//! alternate within each round (A then B, then B then A), for [`ROUNDS`] rounds of a few
+//! milliseconds each. Another process can only add time to a round (by taking the core or the
+//! memory bandwidth), so the headline is the ratio of each side's best round; the median of the
+//! per-round ratios is given beside it, and the two agree when the machine was quiet.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -15,7 +17,7 @@ use crate::scenes::BenchScene;
 use crate::step::{PARALLEL_CASES, PARALLEL_N, parallel_name};
 
 /// Rounds per comparison (odd, so the median is one of them).
-const ROUNDS: usize = 31;
+pub const ROUNDS: usize = 101;
 
 /// Shortest timed stretch of one side in a round (ns): long enough for the timer, short enough
 /// for many rounds.
@@ -26,10 +28,10 @@ const MIN_STRETCH_NS: f64 = 3e6;
 pub struct Pair {
     /// What is compared, as the report names it.
     pub name: String,
-    /// Median over rounds of time(A) / time(B): B's throughput relative to A's.
+    /// Best time of A over best time of B: B's throughput relative to A's.
     pub ratio: f64,
-    /// The lowest and highest per-round ratio.
-    pub range: (f64, f64),
+    /// Median over rounds of time(A) / time(B).
+    pub median: f64,
 }
 
 fn median(v: &mut [f64]) -> f64 {
@@ -53,7 +55,7 @@ pub fn compare(name: &str, mut a: impl FnMut(), mut b: impl FnMut()) -> Pair {
     }
     let once = timed(1, &mut a).max(timed(1, &mut b)).max(1.0);
     let k = (MIN_STRETCH_NS / once).ceil() as usize;
-    let mut ratios = Vec::new();
+    let (mut best_a, mut best_b, mut ratios) = (f64::INFINITY, f64::INFINITY, Vec::new());
     for round in 0..ROUNDS {
         let (x, y) = if round % 2 == 0 {
             let x = timed(k, &mut a);
@@ -62,15 +64,14 @@ pub fn compare(name: &str, mut a: impl FnMut(), mut b: impl FnMut()) -> Pair {
             let y = timed(k, &mut b);
             (timed(k, &mut a), y)
         };
+        best_a = best_a.min(x);
+        best_b = best_b.min(y);
         ratios.push(x / y);
     }
-    let range = ratios.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
-        (lo.min(r), hi.max(r))
-    });
     Pair {
         name: name.to_string(),
-        ratio: median(&mut ratios),
-        range,
+        ratio: best_a / best_b,
+        median: median(&mut ratios),
     }
 }
 
