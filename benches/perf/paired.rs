@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use volley::Integrator;
 
-use crate::reference::{Soa, TRIAD_LEN};
+use crate::reference::{REFERENCE_DRAM_N, Soa, TRIAD_LEN};
 use crate::scenes::BenchScene;
 use crate::step::{PARALLEL_CASES, PARALLEL_N, parallel_name};
 
@@ -80,6 +80,10 @@ pub fn reference_name(n: u64) -> String {
     format!("reference-vs-volley/{n}")
 }
 
+/// Name of the pair of the reference at [`REFERENCE_DRAM_N`] bodies against Volley at 1e6,
+/// per body-step.
+pub const REFERENCE_DRAM: &str = "reference-dram-vs-volley/1000000";
+
 /// Name of the one-against-two-threads pair of a parallel case.
 pub fn threads_name(case: &str) -> String {
     format!("threads/{case}")
@@ -104,6 +108,17 @@ pub fn all() -> Vec<Pair> {
             || soa.step(h, g),
             || step(&mut world),
         ));
+    }
+    {
+        let mut soa = Soa::new(REFERENCE_DRAM_N as usize);
+        let mut world = BenchScene::Gravity.world(1_000_000, Integrator::ExplicitEuler, 1);
+        let (h, g) = (black_box(0.016_666_667), black_box([0.0, 0.0, -9.81]));
+        let mut pair = compare(REFERENCE_DRAM, || soa.step(h, g), || step(&mut world));
+        // Per body-step: the reference side steps REFERENCE_DRAM_N bodies per call.
+        let per_body = 1e6 / REFERENCE_DRAM_N as f64;
+        pair.ratio *= per_body;
+        pair.median *= per_body;
+        out.push(pair);
     }
     for (scene, integrator) in PARALLEL_CASES {
         let mut one = scene.world(PARALLEL_N, integrator, 1);

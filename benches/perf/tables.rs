@@ -8,7 +8,7 @@ use volley::Integrator;
 
 use crate::e2e::E2e;
 use crate::paired::{self, Pair, ROUNDS};
-use crate::reference::{TRIAD_BYTES, TRIAD_LEN, TRIAD_MOVED};
+use crate::reference::{REFERENCE_DRAM_N, TRIAD_BYTES, TRIAD_LEN, TRIAD_MOVED};
 use crate::scenes::BenchScene;
 use crate::step::{PARALLEL_CASES, PARALLEL_N, parallel_name};
 use crate::tick::{HASH_BYTES_PER_BODY, RECORD_STAND_IN, RECORD_VOLLEY, SEED_TICKS};
@@ -82,6 +82,7 @@ fn size_name(n: u64) -> String {
         1_000 => "1e3".into(),
         100_000 => "1e5".into(),
         1_000_000 => "1e6".into(),
+        4_000_000 => "4e6".into(),
         _ => n.to_string(),
     }
 }
@@ -162,7 +163,21 @@ fn reference(md: &mut String, r: &Results) -> bool {
             }
         );
     }
-    complete
+    let dram = r.per(
+        &format!("reference/explicit-euler/{REFERENCE_DRAM_N}"),
+        REFERENCE_DRAM_N,
+    );
+    let volley = r.per("step-gravity/explicit-euler/1000000", 1_000_000);
+    let _ = writeln!(
+        md,
+        "| 1e6, against the reference at {} bodies (streaming from memory) | {} | | {} | {} | | {} | |",
+        size_name(REFERENCE_DRAM_N),
+        opt(dram, sig),
+        opt(volley, sig),
+        opt(dram.zip(volley).map(|(a, b)| a / b), |x| format!("{x:.2}")),
+        paired_cell(r.pair(paired::REFERENCE_DRAM), "")
+    );
+    complete && dram.is_some()
 }
 
 fn integrators(md: &mut String, r: &Results) -> bool {
