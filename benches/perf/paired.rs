@@ -53,16 +53,18 @@ pub fn compare(name: &str, mut a: impl FnMut(), mut b: impl FnMut()) -> Pair {
         a();
         b();
     }
-    let once = timed(1, &mut a).max(timed(1, &mut b)).max(1.0);
-    let k = (MIN_STRETCH_NS / once).ceil() as usize;
+    // Each side repeats enough calls to fill its stretch, so one cold first call (after the other
+    // side evicted its data from the caches) does not decide its time.
+    let reps = |once: f64| (MIN_STRETCH_NS / once.max(1.0)).ceil() as usize;
+    let (ka, kb) = (reps(timed(1, &mut a)), reps(timed(1, &mut b)));
     let (mut best_a, mut best_b, mut ratios) = (f64::INFINITY, f64::INFINITY, Vec::new());
     for round in 0..ROUNDS {
         let (x, y) = if round % 2 == 0 {
-            let x = timed(k, &mut a);
-            (x, timed(k, &mut b))
+            let x = timed(ka, &mut a);
+            (x, timed(kb, &mut b))
         } else {
-            let y = timed(k, &mut b);
-            (timed(k, &mut a), y)
+            let y = timed(kb, &mut b);
+            (timed(ka, &mut a), y)
         };
         best_a = best_a.min(x);
         best_b = best_b.min(y);
