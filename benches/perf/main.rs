@@ -83,10 +83,11 @@ fn main() {
         let pairs = if filtered {
             Vec::new()
         } else {
-            let mut pairs = paired::all();
             #[cfg(feature = "peer")]
-            pairs.extend(peer::paired());
-            pairs
+            let peer_pairs = peer::paired();
+            #[cfg(not(feature = "peer"))]
+            let peer_pairs = Vec::new();
+            paired::all().into_iter().chain(peer_pairs).collect()
         };
         report::run(&dir, started, load_before, e2e, &pairs);
     }
