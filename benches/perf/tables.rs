@@ -43,7 +43,7 @@ pub struct Results {
 }
 
 impl Results {
-    fn pair(&self, name: &str) -> Option<&Pair> {
+    pub fn pair(&self, name: &str) -> Option<&Pair> {
         self.pairs.iter().find(|p| p.name == name)
     }
 
@@ -52,7 +52,7 @@ impl Results {
     }
 
     /// Nanoseconds per element of benchmark `id` that processes `n` elements per iteration.
-    fn per(&self, id: &str, n: u64) -> Option<f64> {
+    pub fn per(&self, id: &str, n: u64) -> Option<f64> {
         self.get(id).map(|e| e.ns / n as f64)
     }
 }
@@ -64,7 +64,7 @@ const VOLLEY_EULER_BYTES: f64 = 14.0 * 8.0;
 const REFERENCE_BYTES: f64 = 12.0 * 8.0;
 
 /// `1.23`, `12.3`, `123`: three significant figures for times and rates.
-fn sig(x: f64) -> String {
+pub fn sig(x: f64) -> String {
     match x.abs() {
         a if a < 10.0 => format!("{x:.2}"),
         a if a < 100.0 => format!("{x:.1}"),
@@ -72,11 +72,11 @@ fn sig(x: f64) -> String {
     }
 }
 
-fn opt(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
+pub fn opt(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
     x.map_or_else(|| "-".into(), f)
 }
 
-fn size_name(n: u64) -> String {
+pub fn size_name(n: u64) -> String {
     match n {
         1 => "1".into(),
         1_000 => "1e3".into(),
@@ -447,84 +447,5 @@ fn peer(md: &mut String, _: &Results) -> bool {
 
 #[cfg(feature = "peer")]
 fn peer(md: &mut String, r: &Results) -> bool {
-    use crate::peer::{
-        ERROR_TICKS, PEER_SIZES, RAPIER_SUBSTEPS, contender_name, errors, paired_name,
-    };
-    let semi = Integrator::SemiImplicitEuler;
-    let _ = writeln!(
-        md,
-        "\n### Peer: rapier3d-f64, free bodies under gravity at the same dt\n"
-    );
-    let _ = writeln!(
-        md,
-        "Rapier 0.36 with default parameters: dynamic bodies without colliders, additional mass = \
-         Volley's mass, sleeping off, `PhysicsWorld::step`, which integrates semi-implicit Euler in \
-         {RAPIER_SUBSTEPS} substeps (`num_solver_iterations`). Volley: `World::step`, semi-implicit \
-         Euler, one thread, at 1 substep (the same per-step method) and at {RAPIER_SUBSTEPS} (the \
-         same accuracy). The issue's goal: at least 300× faster per body-step.\n"
-    );
-    let _ = writeln!(
-        md,
-        "| N | rapier ns/body-step | Volley ns/body-step | faster by | paired, best rounds | goal | Volley, {RAPIER_SUBSTEPS} substeps | faster by |\n|---:|---:|---:|---:|---:|---|---:|---:|"
-    );
-    let mut complete = true;
-    for n in PEER_SIZES {
-        let rapier = r.per(&format!("peer/rapier3d-f64/{n}"), n);
-        let one = r.per(&format!("peer/{}/{n}", contender_name(semi, 1)), n);
-        let sub = r.per(
-            &format!("peer/{}/{n}", contender_name(semi, RAPIER_SUBSTEPS)),
-            n,
-        );
-        complete &= rapier.is_some() && one.is_some() && sub.is_some();
-        let speedup = |v: Option<f64>| rapier.zip(v).map(|(a, b)| a / b);
-        let pair = r.pair(&paired_name(n));
-        let goal = match pair.map(|p| p.ratio).or(speedup(one)) {
-            Some(x) if x >= 300.0 => "≥ 300×: met",
-            Some(_) => "≥ 300×: **missed**",
-            None => "",
-        };
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {} | {} | {goal} | {} | {} |",
-            size_name(n),
-            opt(rapier, sig),
-            opt(one, sig),
-            opt(speedup(one), |x| format!("{x:.0}×")),
-            pair.map_or_else(
-                || "-".into(),
-                |p| format!("{:.0}× (median {:.0}×)", p.ratio, p.median)
-            ),
-            opt(sub, sig),
-            opt(speedup(sub), |x| format!("{x:.0}×"))
-        );
-    }
-    if !complete {
-        return false;
-    }
-    let _ = writeln!(
-        md,
-        "\nLargest position error over the bodies against the closed form `p0 + v0 t + g t²/2` \
-         after {ERROR_TICKS} ticks (t = 1 s). Semi-implicit and explicit Euler are off by \
-         `g t h / 2` = 0.0818 m at h = 1/60 s, a quarter of that with 4 substeps; velocity Verlet \
-         is exact for constant force up to rounding.\n"
-    );
-    let tables: Vec<_> = PEER_SIZES.iter().map(|&n| errors(n)).collect();
-    let heads: Vec<String> = PEER_SIZES
-        .iter()
-        .map(|n| format!("N = {}", size_name(*n)))
-        .collect();
-    let _ = writeln!(
-        md,
-        "| contender | {} |\n|---|{}",
-        heads.join(" | "),
-        "---:|".repeat(PEER_SIZES.len())
-    );
-    for row in 0..tables[0].len() {
-        let cells: Vec<String> = tables
-            .iter()
-            .map(|t| format!("{:.3e} m", t[row].max_error))
-            .collect();
-        let _ = writeln!(md, "| {} | {} |", tables[0][row].who, cells.join(" | "));
-    }
-    true
+    crate::peer::table(md, r)
 }
