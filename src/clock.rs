@@ -19,6 +19,36 @@ use std::time::{Duration, Instant};
 
 use crate::world::SplitMix64;
 
+/// `a / b` in whole nanoseconds. Both fit 64 bits in any real run (584 years), and a 64-bit
+/// division is several times cheaper than the 128-bit one `as_nanos` implies; the result is
+/// the same integer either way.
+#[inline]
+fn whole_steps(a: Duration, b: Duration) -> u128 {
+    let nanos = |d: Duration| {
+        d.as_secs()
+            .checked_mul(1_000_000_000)
+            .and_then(|n| n.checked_add(u64::from(d.subsec_nanos())))
+    };
+    match (nanos(a), nanos(b)) {
+        (Some(a), Some(b)) => u128::from(a / b),
+        _ => a.as_nanos() / b.as_nanos(),
+    }
+}
+
+/// Nanoseconds as f64, rounded once: through i64 when they fit (the same value as the u128
+/// conversion, which costs a library call).
+#[inline]
+fn nanos_f64(d: Duration) -> f64 {
+    let whole = i64::try_from(d.as_secs())
+        .ok()
+        .and_then(|s| s.checked_mul(1_000_000_000))
+        .and_then(|n| n.checked_add(i64::from(d.subsec_nanos())));
+    match whole {
+        Some(n) => n as f64,
+        None => d.as_nanos() as f64,
+    }
+}
+
 /// Default clamp on one frame's delta: a quarter second.
 pub const DEFAULT_MAX_FRAME_DELTA: Duration = Duration::from_millis(250);
 /// Default cap on ticks per frame.
@@ -98,7 +128,7 @@ impl FixedClock {
                 frame_delta
             };
             self.accumulator += self.scale(delta);
-            let due = self.accumulator.as_nanos() / self.timestep.as_nanos();
+            let due = whole_steps(self.accumulator, self.timestep);
             let steps = due.min(u128::from(self.max_steps_per_frame)) as u32;
             // Whole steps beyond the cap are dropped; the fraction of a step is kept.
             let over = (due - u128::from(steps)) as u32;
@@ -137,7 +167,7 @@ impl FixedClock {
     /// Fraction of a tick in the accumulator, in [0, 1): how far past the current tick the
     /// displayed state should be drawn.
     pub fn alpha(&self) -> f64 {
-        self.accumulator.as_nanos() as f64 / self.timestep.as_nanos() as f64
+        nanos_f64(self.accumulator) / nanos_f64(self.timestep)
     }
 
     /// The timestep.
@@ -310,6 +340,34 @@ impl FrameSource for VirtualClock {
                 let d = deltas.get(*next).copied().unwrap_or(Duration::ZERO);
                 *next = (*next + 1) % deltas.len().max(1);
                 d
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nanosecond_shortcuts_equal_the_u128_arithmetic() {
+        let big = Duration::new(u64::MAX / 1_000_000_000 + 7, 999_999_999);
+        let samples = [
+            Duration::ZERO,
+            Duration::from_nanos(1),
+            Duration::from_nanos(16_666_667),
+            Duration::new(5, 123_456_789),
+            Duration::new(i64::MAX as u64 / 1_000_000_000, 999_999_999),
+            big,
+        ];
+        for a in samples {
+            assert_eq!(nanos_f64(a), a.as_nanos() as f64, "{a:?}");
+            for b in samples.iter().filter(|b| !b.is_zero()) {
+                assert_eq!(
+                    whole_steps(a, *b),
+                    a.as_nanos() / b.as_nanos(),
+                    "{a:?} / {b:?}"
+                );
             }
         }
     }

@@ -170,6 +170,11 @@ const MAX_IMPACTS_PER_STEP: usize = 16;
 /// surface at the start of a segment, so a resting body costs no root search.
 const TOUCHING: f64 = 1e-12;
 
+/// A body already resting on a surface meets it again each step at gravity's gain over one step,
+/// `h (m g) / m`, which equals `rest_speed = |g| h` only up to rounding; above it by this factor
+/// is a body that arrived, so a resting body does not report "came to rest" every other tick.
+const REST_MARGIN: f64 = 1.0 + 1e-9;
+
 #[derive(Clone, Copy)]
 struct Plane {
     surface: Surface,
@@ -353,7 +358,7 @@ fn resolve_swept<S: Scheme>(
                     },
                 });
             } else {
-                if speed_in > frame.rest_speed {
+                if speed_in > frame.rest_speed * REST_MARGIN {
                     out.push(Event {
                         tick: frame.tick,
                         time,

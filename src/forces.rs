@@ -5,6 +5,7 @@
 //! the bit-exact result). Scenes whose only terms are uniform gravity and a constant force are
 //! stepped through [`ConstantField`], a model whose force is a compile-time constant expression
 //! per body, so such scenes pay for nothing else; the choice is made once per tick, never per body.
+//! Gravity with linear drag (and optionally a constant force) likewise gets [`DragField`].
 //!
 //! Every term is conservative or dissipative, so a body's mechanical energy
 //! ([`ForceModel::energy`]) never grows between commands; the divergence guard relies on that.
@@ -177,9 +178,11 @@ impl Forces {
 
     /// The same forces as a [`ConstantField`], if gravity and a constant force are all there is.
     pub fn constant_field(&self) -> Option<ConstantField> {
-        let only_constant = self
-            .kinds()
-            .all(|k| matches!(k, ForceKind::Gravity | ForceKind::ConstantForce));
+        // Direct field tests rather than `kinds()`: this runs every tick.
+        let only_constant = self.linear_drag.is_none()
+            && self.quadratic_drag.is_none()
+            && self.spring.is_none()
+            && self.point_mass.is_none();
         only_constant.then(|| ConstantField {
             gravity: self.gravity.unwrap_or(DVec3::ZERO),
             force: self.constant.unwrap_or(DVec3::ZERO),
@@ -368,6 +371,80 @@ impl ForceModel for ConstantField {
     }
 }
 
+/// Gravity and linear drag, plus a constant force when `CONSTANT`, nothing else: the model of
+/// drag scenes, chosen automatically like [`ConstantField`].
+///
+/// Its force is [`Forces::force`] for exactly these terms, the same operations in the same
+/// order, so results are bit-identical; it only drops the per-body tests of which terms are
+/// declared, which keep the general loop from vectorising.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DragField<const CONSTANT: bool> {
+    forces: Forces,
+    gravity: DVec3,
+    constant: DVec3,
+    drag: f64,
+}
+
+impl<const CONSTANT: bool> DragField<CONSTANT> {
+    /// `forces` as this model, if they are gravity, linear drag and (exactly when `CONSTANT`) a
+    /// constant force.
+    pub fn of(forces: &Forces) -> Option<DragField<CONSTANT>> {
+        let (Some(gravity), Some(drag)) = (forces.gravity, forces.linear_drag) else {
+            return None;
+        };
+        let others = forces.quadratic_drag.is_some()
+            || forces.spring.is_some()
+            || forces.point_mass.is_some();
+        (forces.constant.is_some() == CONSTANT && !others).then(|| DragField {
+            forces: *forces,
+            gravity,
+            constant: forces.constant.unwrap_or(DVec3::ZERO),
+            drag,
+        })
+    }
+}
+
+impl<const CONSTANT: bool> ForceModel for DragField<CONSTANT> {
+    #[inline(always)]
+    fn force(&self, _p: DVec3, v: DVec3, m: f64) -> DVec3 {
+        let mut f = DVec3::ZERO;
+        f += m * self.gravity;
+        if CONSTANT {
+            f += self.constant;
+        }
+        f -= self.drag * v;
+        f
+    }
+
+    fn velocity_dependent(&self) -> bool {
+        true
+    }
+
+    #[inline(always)]
+    fn linear_part(&self, m: f64) -> LinearPart {
+        let mut a0 = DVec3::ZERO;
+        a0 += self.gravity;
+        if CONSTANT {
+            a0 += self.constant / m;
+        }
+        LinearPart {
+            a0,
+            kd: self.drag / m,
+            w2: 0.0,
+            anchor: DVec3::ZERO,
+        }
+    }
+
+    #[inline(always)]
+    fn nonlinear_force(&self, _p: DVec3, _v: DVec3, _m: f64) -> DVec3 {
+        DVec3::ZERO
+    }
+
+    fn energy(&self, p: DVec3, v: DVec3, m: f64) -> f64 {
+        self.forces.energy(p, v, m)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -385,6 +462,41 @@ mod tests {
         let (p, v, m) = (DVec3::new(1.0, 2.0, 3.0), DVec3::new(-4.0, 5.0, 6.0), 2.5);
         assert_eq!(field.force(p, v, m), forces.force(p, v, m));
         assert_eq!(field.energy(p, v, m), forces.energy(p, v, m));
+    }
+
+    #[test]
+    fn drag_field_matches_general_model_bit_for_bit() {
+        let plain = Forces {
+            gravity: Some(DVec3::new(0.0, -0.0, -9.81)),
+            linear_drag: Some(0.3),
+            ..Forces::default()
+        };
+        let with_constant = Forces {
+            constant: Some(DVec3::new(-0.0, 2.0, 0.5)),
+            ..plain
+        };
+        let a = DragField::<false>::of(&plain).expect("gravity and drag only");
+        let b = DragField::<true>::of(&with_constant).expect("gravity, drag, constant force");
+        assert!(DragField::<true>::of(&plain).is_none());
+        assert!(
+            DragField::<false>::of(&Forces {
+                linear_drag: None,
+                ..plain
+            })
+            .is_none()
+        );
+        let (p, m) = (DVec3::new(1.0, 2.0, 3.0), 2.5);
+        for v in [
+            DVec3::new(-4.0, 0.0, 6.0),
+            DVec3::new(0.0, -0.0, 1e-300),
+            DVec3::ZERO,
+        ] {
+            let bits = |f: DVec3| f.to_array().map(f64::to_bits);
+            assert_eq!(bits(a.force(p, v, m)), bits(plain.force(p, v, m)));
+            assert_eq!(bits(b.force(p, v, m)), bits(with_constant.force(p, v, m)));
+        }
+        assert_eq!(a.linear_part(m), plain.linear_part(m));
+        assert_eq!(b.linear_part(m), with_constant.linear_part(m));
     }
 
     #[test]

@@ -12,7 +12,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::forces::{ForceModel, Forces};
+use crate::forces::{DragField, ForceModel, Forces};
 
 /// The mechanical state of one body in the seed's form: momentum and position.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -218,12 +218,19 @@ pub(crate) trait SchemeVisitor {
     fn visit<S: Scheme>(self, scheme: S) -> Self::Out;
 }
 
-/// Picks the force model (the [`crate::forces::ConstantField`] fast path when it applies) and the scheme, once.
+/// Picks the force model (the [`crate::forces::ConstantField`] or [`DragField`] fast path when
+/// one applies, else the general [`Forces`]) and the scheme, once.
 pub(crate) fn visit<V: SchemeVisitor>(integrator: Integrator, forces: &Forces, v: V) -> V::Out {
-    match forces.constant_field() {
-        Some(field) => visit_model(integrator, &field, v),
-        None => visit_model(integrator, forces, v),
+    if let Some(field) = forces.constant_field() {
+        return visit_model(integrator, &field, v);
     }
+    if let Some(field) = DragField::<false>::of(forces) {
+        return visit_model(integrator, &field, v);
+    }
+    if let Some(field) = DragField::<true>::of(forces) {
+        return visit_model(integrator, &field, v);
+    }
+    visit_model(integrator, forces, v)
 }
 
 fn visit_model<F: ForceModel, V: SchemeVisitor>(integrator: Integrator, f: &F, v: V) -> V::Out {

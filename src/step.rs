@@ -143,10 +143,17 @@ impl World {
 }
 
 fn first_over_cap<F: ForceModel>(b: &crate::world::Bodies, f: &F) -> Option<(usize, f64)> {
-    (0..b.len()).find_map(|i| {
-        let e = f.energy(b.p.get(i), b.velocity(i), b.mass[i]);
+    let n = b.len();
+    let (p, mv) = (&b.p, &b.mv);
+    let (px, py, pz) = (&p.x[..n], &p.y[..n], &p.z[..n]);
+    let (mx, my, mz) = (&mv.x[..n], &mv.y[..n], &mv.z[..n]);
+    let (mass, inv_mass, cap) = (&b.mass[..n], &b.inv_mass[..n], &b.energy_cap[..n]);
+    (0..n).find_map(|i| {
+        // The velocity as `Bodies::velocity` forms it, from slices the compiler can see whole.
+        let v = DVec3::new(mx[i], my[i], mz[i]) * inv_mass[i];
+        let e = f.energy(DVec3::new(px[i], py[i], pz[i]), v, mass[i]);
         // NaN energy is caught by the non-finite check; `>` keeps it from tripping twice.
-        (e > b.energy_cap[i]).then_some((i, e))
+        (e > cap[i]).then_some((i, e))
     })
 }
 
@@ -326,9 +333,110 @@ fn finite(v: DVec3) -> bool {
     (v.x.abs() <= f64::MAX) & (v.y.abs() <= f64::MAX) & (v.z.abs() <= f64::MAX)
 }
 
-/// The per-body loop of one chunk.
-#[inline(never)]
+/// The vector instruction set the per-body loop runs with, chosen once per process.
+///
+/// The loop is compiled three times: for the baseline target (SSE2 on x86-64) and, behind
+/// `#[target_feature]`, for AVX2 and AVX-512, used when the CPU has them. Every version executes
+/// the same IEEE-754 operations in the same order (Rust never fuses a multiply and an add on its
+/// own, and the code never calls `mul_add`), so only the width differs and the results are
+/// bit-identical on every machine. `VOLLEY_SIMD=baseline|avx2|avx512` caps the choice, to compare
+/// the versions (tests/simd.rs does).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum SimdLevel {
+    /// The target's baseline (SSE2 on x86-64, whatever the target has elsewhere).
+    Baseline,
+    /// 256-bit vectors, 4 f64 lanes.
+    Avx2,
+    /// 512-bit vectors, 8 f64 lanes.
+    Avx512,
+}
+
+/// The [`SimdLevel`] in use: the widest the CPU supports, capped by `VOLLEY_SIMD`.
+pub fn simd_level() -> SimdLevel {
+    static LEVEL: std::sync::OnceLock<SimdLevel> = std::sync::OnceLock::new();
+    *LEVEL.get_or_init(|| {
+        let cap = match std::env::var("VOLLEY_SIMD").as_deref() {
+            Ok("baseline") => SimdLevel::Baseline,
+            Ok("avx2") => SimdLevel::Avx2,
+            _ => SimdLevel::Avx512,
+        };
+        detected_level().min(cap)
+    })
+}
+
+#[cfg(target_arch = "x86_64")]
+fn detected_level() -> SimdLevel {
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        SimdLevel::Avx512
+    } else if std::arch::is_x86_feature_detected!("avx2") {
+        SimdLevel::Avx2
+    } else {
+        SimdLevel::Baseline
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn detected_level() -> SimdLevel {
+    SimdLevel::Baseline
+}
+
+/// The per-body loop of one chunk, in the widest version the CPU runs ([`simd_level`]).
 fn run<S: Scheme, const CONTACTS: bool>(
+    scheme: &S,
+    l: Lanes,
+    frame: &StepFrame,
+    events: &mut Vec<Event>,
+) -> KernelOut {
+    // A vector loop only pays off once there is a vector's worth of bodies; the versions give
+    // the same bits, so this is only about speed.
+    #[cfg(target_arch = "x86_64")]
+    match simd_level() {
+        _ if l.len() < 8 => {}
+        // SAFETY: `simd_level` returns a level only if the CPU supports its features.
+        SimdLevel::Avx512 => return unsafe { run_avx512::<S, CONTACTS>(scheme, l, frame, events) },
+        SimdLevel::Avx2 => return unsafe { run_avx2::<S, CONTACTS>(scheme, l, frame, events) },
+        SimdLevel::Baseline => {}
+    }
+    run_baseline::<S, CONTACTS>(scheme, l, frame, events)
+}
+
+#[inline(never)]
+fn run_baseline<S: Scheme, const CONTACTS: bool>(
+    scheme: &S,
+    l: Lanes,
+    frame: &StepFrame,
+    events: &mut Vec<Event>,
+) -> KernelOut {
+    run_lanes::<S, CONTACTS>(scheme, l, frame, events)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[inline(never)]
+#[target_feature(enable = "avx2")]
+fn run_avx2<S: Scheme, const CONTACTS: bool>(
+    scheme: &S,
+    l: Lanes,
+    frame: &StepFrame,
+    events: &mut Vec<Event>,
+) -> KernelOut {
+    run_lanes::<S, CONTACTS>(scheme, l, frame, events)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[inline(never)]
+#[target_feature(enable = "avx512f")]
+fn run_avx512<S: Scheme, const CONTACTS: bool>(
+    scheme: &S,
+    l: Lanes,
+    frame: &StepFrame,
+    events: &mut Vec<Event>,
+) -> KernelOut {
+    run_lanes::<S, CONTACTS>(scheme, l, frame, events)
+}
+
+/// The per-body loop of one chunk, inlined into each instruction-set version of [`run`].
+#[inline(always)]
+fn run_lanes<S: Scheme, const CONTACTS: bool>(
     scheme: &S,
     l: Lanes,
     frame: &StepFrame,
