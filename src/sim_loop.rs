@@ -146,17 +146,29 @@ impl SimLoop {
             }
         }
         for k in 0..ticks.steps {
-            self.apply_due(observer)?;
-            if k + 1 == ticks.steps {
-                observer.before_last_tick(&self.world);
+            if let Err(e) = self.run_tick(k + 1 == ticks.steps, observer) {
+                // The ticks this frame granted but did not run go back into the accumulator, so
+                // the clock's tick count stays the world's and no time is silently lost.
+                let ran = k + u32::from(!matches!(e, LoopError::Command { .. }));
+                self.clock.return_ticks(ticks.steps - ran);
+                return Err(e);
             }
-            if let Err(d) = self.world.step() {
-                observer.on_divergence(&self.world, &d);
-                return Err(LoopError::Diverged(d));
-            }
-            observer.after_tick(&self.world)?;
         }
         Ok(ticks)
+    }
+
+    /// One tick: due commands, the step, the observer.
+    fn run_tick(&mut self, last: bool, observer: &mut impl TickObserver) -> Result<(), LoopError> {
+        self.apply_due(observer)?;
+        if last {
+            observer.before_last_tick(&self.world);
+        }
+        if let Err(d) = self.world.step() {
+            observer.on_divergence(&self.world, &d);
+            return Err(LoopError::Diverged(d));
+        }
+        observer.after_tick(&self.world)?;
+        Ok(())
     }
 
     /// Applies every queued command due at or before the current tick.

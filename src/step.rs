@@ -112,7 +112,7 @@ impl World {
                 carry_valid: self.carry_valid,
             },
         );
-        self.carry_valid = carries;
+        self.carry_valid = out.carried;
         self.force_evals += out.evals;
         for buffer in &mut self.chunk_events[..chunks] {
             self.events.extend_from_slice(buffer);
@@ -246,6 +246,8 @@ impl<'a> Lanes<'a> {
 struct KernelOut {
     evals: u64,
     first_non_finite: Option<usize>,
+    /// Whether the scheme wrote the carried force (velocity Verlet's carrying form only).
+    carried: bool,
 }
 
 impl KernelOut {
@@ -254,6 +256,7 @@ impl KernelOut {
         KernelOut {
             evals: self.evals + later.evals,
             first_non_finite: self.first_non_finite.or(later.first_non_finite),
+            carried: self.carried,
         }
     }
 }
@@ -285,6 +288,7 @@ impl SchemeVisitor for Integrate<'_, '_> {
         };
         KernelOut {
             evals: out.evals + extra,
+            carried: S::CARRIES_FORCE,
             ..out
         }
     }
@@ -498,5 +502,6 @@ fn run_lanes<S: Scheme, const CONTACTS: bool>(
     KernelOut {
         evals,
         first_non_finite,
+        carried: S::CARRIES_FORCE,
     }
 }

@@ -198,3 +198,28 @@ fn a_run_stops_exactly_at_its_tick_and_keeps_the_rest_for_later() {
     assert_eq!(sim.world.tick(), 20);
     assert_eq!(sim.clock.tick(), 20);
 }
+
+#[test]
+fn a_frame_stopped_by_a_failing_command_gives_back_the_ticks_it_did_not_run() {
+    let scene = scene::load(Path::new("assets/scenes/bounce.ron")).unwrap();
+    let mut sim = SimLoop::new(World::new(&scene));
+    sim.schedule(volley::command::parse_script("2: despawn 99\n", "script.txt").unwrap());
+    // One 250 ms frame is 14 whole 1/60 s ticks: the cap grants 8 (dropping 6) and the command
+    // due before the third fails.
+    let err = sim.frame(250 * MS, &mut ()).unwrap_err();
+    assert!(
+        matches!(err, volley::LoopError::Command { tick: 2, .. }),
+        "{err}"
+    );
+    assert_eq!(sim.world.tick(), 2);
+    assert_eq!(
+        sim.clock.tick(),
+        2,
+        "the six unrun ticks are back in the accumulator"
+    );
+    assert_eq!(
+        sim.clock.dropped(),
+        6 * scene.timestep,
+        "only the cap's drop; the failure drops nothing"
+    );
+}
