@@ -73,3 +73,38 @@ fn contacts_and_events_give_the_same_bits_at_every_vector_width() {
     std::fs::write(&path, CONTACT_SCENE).expect("the test's temp dir is writable");
     same_for_every_width(&path, "400");
 }
+
+/// More bodies than `STREAMING_MIN_BODIES`, so the vector loops take their streaming form
+/// (recomputing `1 / m` instead of loading it) while the baseline loop loads it: still the same
+/// bits. Ground contacts included, so the contact stage runs inside the streaming loop too.
+#[test]
+fn streaming_worlds_give_the_same_bits_as_the_baseline_loop() {
+    let count = volley::step::STREAMING_MIN_BODIES + 1000;
+    let text = format!(
+        r#"Scene(
+            dt: 0.05,
+            integrator: ExplicitEuler,
+            forces: [Gravity((0.0, 0.0, -9.81)), LinearDrag(0.05)],
+            ground: (height: 0.0, restitution: 0.7),
+            launcher: (position: (0.0, 0.0, 0.2), speed: 3.0, elevation_deg: -20.0, azimuth_deg: 0.0),
+            volley: (count: {count}, speed_spread: 1.0, angle_spread_deg: 30.0),
+            seed: 5,
+        )"#
+    );
+    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("simd_streaming.ron");
+    std::fs::write(&path, text).expect("the test's temp dir is writable");
+    for integrator in [
+        Integrator::ExplicitEuler,
+        Integrator::VelocityVerlet,
+        Integrator::Rk4,
+    ] {
+        let args = ["--ticks", "3", "--integrator", integrator.name()];
+        let baseline = output("baseline", &path, &args);
+        assert!(
+            baseline.contains("impact on ground"),
+            "the ground is hit: {baseline:.200}"
+        );
+        assert_eq!(output("avx512", &path, &args), baseline, "{integrator}");
+        assert_eq!(output("avx2", &path, &args), baseline, "{integrator}");
+    }
+}
