@@ -361,7 +361,7 @@ fn end_to_end(md: &mut String, e2e: Option<&Result<E2e, String>>) -> bool {
         );
     }
     if let Some(rec) = e.record.first() {
-        let _ = writeln!(md, "\nThe recording's line: `{}`", rec.summary);
+        let _ = writeln!(md, "\nThe recording's line: `` {} ``", rec.summary);
     }
     true
 }
