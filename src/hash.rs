@@ -21,46 +21,88 @@ use crate::world::World;
 pub const HASH_LAYOUT: &[u8] = b"VOLLEY-STATE-v1";
 
 /// The bit pattern hashed for `x`: `-0.0` as `+0.0`, every NaN as the canonical quiet NaN.
+///
+/// Integer compares on the bit pattern (`|x|` is zero, or above infinity's pattern: a NaN), so
+/// the compiler picks without branching; the same results as `x == 0.0` and `x.is_nan()`.
 #[inline]
 pub fn canonical_bits(x: f64) -> u64 {
-    if x.is_nan() {
-        0x7ff8_0000_0000_0000
-    } else if x == 0.0 {
-        0
+    const QUIET_NAN: u64 = 0x7ff8_0000_0000_0000;
+    const INFINITY: u64 = 0x7ff0_0000_0000_0000;
+    let bits = x.to_bits();
+    let magnitude = bits & !(1 << 63);
+    let bits = if magnitude == 0 { 0 } else { bits };
+    if magnitude > INFINITY {
+        QUIET_NAN
     } else {
-        x.to_bits()
+        bits
     }
 }
 
 /// 64-bit words hashed per body: id, p, mV, mass, radius.
 const WORDS_PER_BODY: usize = 9;
+/// Bytes hashed per body.
+const BODY_BYTES: usize = WORDS_PER_BODY * 8;
 /// Bytes before the first body: layout tag, tick, generator state, body count.
 const HEAD_BYTES: usize = HASH_LAYOUT.len() + 3 * 8;
-/// Worlds with at most this many bodies are hashed in one shot from a stack buffer (XXH3's
-/// short-input path); larger ones stream in blocks of this many bodies. Both give the same
-/// digest: XXH3's streaming and one-shot forms agree on every input.
-const BLOCK: usize = 8;
+/// Worlds of more bodies than this stream through XXH3 in blocks of [`BLOCK`] bodies; smaller
+/// ones are hashed in one shot from a stack buffer just large enough (XXH3's short-input path).
+/// Both give the same digest: XXH3's streaming and one-shot forms agree on every input.
+const ONE_SHOT_MAX: usize = 64;
+/// Bodies per streamed block: large enough that XXH3's per-update overhead is small against
+/// the block, small enough to stay in L1 with the arrays it is read from.
+const BLOCK: usize = 64;
 
 /// The canonical hash of a world's state at its current tick.
+///
+/// This is on every recorded tick's path, so it avoids work the definition does not need:
+/// small worlds fill a buffer sized for them (no zeroing of a large one), and the body words
+/// are written through fixed-size chunks, without a bounds check per word.
 pub fn state_hash(world: &World) -> u64 {
-    let b = world.bodies();
-    let mut buf = [0u8; HEAD_BYTES + BLOCK * WORDS_PER_BODY * 8];
-    buf[..HASH_LAYOUT.len()].copy_from_slice(HASH_LAYOUT);
-    let head = [world.tick(), world.rng().0, b.len() as u64];
-    let mut at = HASH_LAYOUT.len();
-    for w in head {
-        buf[at..at + 8].copy_from_slice(&w.to_le_bytes());
-        at += 8;
+    match world.bodies().len() {
+        0..=1 => one_shot::<{ HEAD_BYTES + BODY_BYTES }>(world),
+        2 => one_shot::<{ HEAD_BYTES + 2 * BODY_BYTES }>(world),
+        3..=4 => one_shot::<{ HEAD_BYTES + 4 * BODY_BYTES }>(world),
+        5..=8 => one_shot::<{ HEAD_BYTES + 8 * BODY_BYTES }>(world),
+        9..=16 => one_shot::<{ HEAD_BYTES + 16 * BODY_BYTES }>(world),
+        17..=32 => one_shot::<{ HEAD_BYTES + 32 * BODY_BYTES }>(world),
+        33..=ONE_SHOT_MAX => one_shot::<{ HEAD_BYTES + ONE_SHOT_MAX * BODY_BYTES }>(world),
+        _ => streamed(world),
     }
-    if b.len() <= BLOCK {
-        let end = write_bodies(world, 0..b.len(), &mut buf[at..]);
-        return xxh3_64(&buf[..at + end]);
+}
+
+/// The head of the stream: layout tag, tick, generator state, body count.
+fn head(world: &World) -> [u8; HEAD_BYTES] {
+    let mut head = [0u8; HEAD_BYTES];
+    let (tag, words) = head.split_at_mut(HASH_LAYOUT.len());
+    tag.copy_from_slice(HASH_LAYOUT);
+    let values = [world.tick(), world.rng().0, world.bodies().len() as u64];
+    for (out, w) in words.as_chunks_mut::<8>().0.iter_mut().zip(values) {
+        *out = w.to_le_bytes();
     }
+    head
+}
+
+/// Hashes a world of at most `(CAP - HEAD_BYTES) / BODY_BYTES` bodies from one stack buffer.
+#[inline]
+fn one_shot<const CAP: usize>(world: &World) -> u64 {
+    let mut buf = [0u8; CAP];
+    let (head_bytes, bodies) = buf.split_at_mut(HEAD_BYTES);
+    head_bytes.copy_from_slice(&head(world));
+    let n = world.bodies().len();
+    write_bodies(world, 0..n, bodies);
+    xxh3_64(&buf[..HEAD_BYTES + n * BODY_BYTES])
+}
+
+/// Hashes a world of any size, [`BLOCK`] bodies per XXH3 update.
+#[inline(never)]
+fn streamed(world: &World) -> u64 {
     let mut h = Xxh3::new();
-    h.update(&buf[..at]);
+    h.update(&head(world));
+    let n = world.bodies().len();
+    let mut buf = [0u8; BLOCK * BODY_BYTES];
     let mut start = 0;
-    while start < b.len() {
-        let end = (start + BLOCK).min(b.len());
+    while start < n {
+        let end = (start + BLOCK).min(n);
         let len = write_bodies(world, start..end, &mut buf);
         h.update(&buf[..len]);
         start = end;
@@ -68,30 +110,33 @@ pub fn state_hash(world: &World) -> u64 {
     h.digest()
 }
 
-/// Writes the canonical words of bodies `range` into `out`; returns the bytes written.
+/// Writes the canonical words of bodies `range` into the start of `out` (which must hold them);
+/// returns the bytes written.
 #[inline]
 fn write_bodies(world: &World, range: std::ops::Range<usize>, out: &mut [u8]) -> usize {
     let b = world.bodies();
     let (p, mv) = (b.positions(), b.momenta());
-    let mut at = 0;
-    for i in range {
-        let words = [
-            b.ids()[i].0,
-            canonical_bits(p.x[i]),
-            canonical_bits(p.y[i]),
-            canonical_bits(p.z[i]),
-            canonical_bits(mv.x[i]),
-            canonical_bits(mv.y[i]),
-            canonical_bits(mv.z[i]),
-            canonical_bits(b.masses()[i]),
-            canonical_bits(b.radii()[i]),
-        ];
-        for w in words {
-            out[at..at + 8].copy_from_slice(&w.to_le_bytes());
-            at += 8;
+    let r = range;
+    let ids = &b.ids()[r.clone()];
+    let fields: [&[f64]; 8] = [
+        &p.x[r.clone()],
+        &p.y[r.clone()],
+        &p.z[r.clone()],
+        &mv.x[r.clone()],
+        &mv.y[r.clone()],
+        &mv.z[r.clone()],
+        &b.masses()[r.clone()],
+        &b.radii()[r.clone()],
+    ];
+    let chunks = &mut out.as_chunks_mut::<BODY_BYTES>().0[..ids.len()];
+    for (i, (chunk, id)) in chunks.iter_mut().zip(ids).enumerate() {
+        let (id_bytes, rest) = chunk.split_at_mut(8);
+        id_bytes.copy_from_slice(&id.0.to_le_bytes());
+        for (word, field) in rest.as_chunks_mut::<8>().0.iter_mut().zip(fields) {
+            *word = canonical_bits(field[i]).to_le_bytes();
         }
     }
-    at
+    ids.len() * BODY_BYTES
 }
 
 /// Formats a hash as the CLI prints it: `0x` and 16 lowercase hex digits.
@@ -124,12 +169,14 @@ mod tests {
     fn one_shot_and_streamed_hashes_follow_the_documented_stream() {
         let text = "Scene(dt: 0.01, integrator: Rk4, forces: [Gravity((0, 0, -9.81))],
             launcher: (position: (0, 0, 1), speed: 10, elevation_deg: 45, azimuth_deg: 0),
-            volley: (count: 100, speed_spread: 1, angle_spread_deg: 5))";
+            volley: (count: 300, speed_spread: 1, angle_spread_deg: 5))";
         let scene = crate::scene::parse(text, "inline.ron", "inline").unwrap();
         let mut world = World::new(&scene);
         world.step().unwrap();
-        // Around the one-shot / streaming boundary and across several blocks.
-        for keep in [100, 17, 9, 8, 7, 1, 0] {
+        // Every one-shot buffer size, the one-shot / streaming boundary, and around block edges.
+        for keep in [
+            300, 257, 256, 129, 128, 127, 65, 64, 63, 9, 8, 7, 5, 4, 3, 2, 1, 0,
+        ] {
             while world.bodies().len() > keep {
                 let last = *world.bodies().ids().last().unwrap();
                 world.despawn(last);

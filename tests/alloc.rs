@@ -1,4 +1,5 @@
-//! No allocation per tick after warm-up: a counting global allocator watches `SimLoop::frame`.
+//! No allocation per tick after warm-up: a counting global allocator watches `SimLoop::frame`,
+//! with and without a recorder.
 //!
 //! The allocator counts only on threads that opted in (a thread-local pointer to a per-test
 //! counter), so the test harness's own threads and other tests running at the same time are not
@@ -15,6 +16,7 @@ use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
+use volley::replay::{FlushPolicy, RecordOptions, Recorder};
 use volley::scene::{self, Scene};
 use volley::step::PARALLEL_MIN_CHUNK;
 use volley::{Integrator, SimLoop, World};
@@ -61,8 +63,10 @@ const WARM_UP_TICKS: u64 = 45;
 const MEASURED_TICKS: u64 = 60;
 
 /// Allocations made while `scene` runs ticks `WARM_UP_TICKS..WARM_UP_TICKS + MEASURED_TICKS`
-/// on `threads` threads, one tick per frame.
-fn allocations_after_warm_up(scene: &Scene, threads: usize) -> u64 {
+/// on `threads` threads, one tick per frame; with `record`, a recorder started at tick 0 hashes
+/// every tick and keeps a keyframe every 100 ticks (into `io::sink()`, no wall-clock flushes):
+/// its run of hashes grows past anything the warm-up saw, to the keyframe at tick 100.
+fn allocations_after_warm_up(scene: &Scene, threads: usize, record: bool) -> u64 {
     let counter: &'static AtomicU64 = Box::leak(Box::new(AtomicU64::new(0)));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
@@ -76,13 +80,28 @@ fn allocations_after_warm_up(scene: &Scene, threads: usize) -> u64 {
         world.set_threads(threads);
         let mut sim = SimLoop::new(world);
         let dt = scene.timestep;
+        let options = RecordOptions {
+            keyframe_every: 100,
+            flush: FlushPolicy::OnFinish,
+            ..RecordOptions::default()
+        };
+        let mut recorder = record.then(|| {
+            Recorder::start(std::io::sink(), &sim.world, options).expect("a sink takes anything")
+        });
+        let mut tick = |sim: &mut SimLoop| {
+            match recorder.as_mut() {
+                Some(recorder) => sim.frame(dt, recorder),
+                None => sim.frame(dt, &mut ()),
+            }
+            .expect("the test scenes run");
+        };
         let mut events = 0;
         for _ in 0..WARM_UP_TICKS {
-            sim.frame(dt, &mut ()).expect("the test scenes run");
+            tick(&mut sim);
         }
         let before = counter.load(Ordering::SeqCst);
         for _ in 0..MEASURED_TICKS {
-            sim.frame(dt, &mut ()).expect("the test scenes run");
+            tick(&mut sim);
             events += sim.world.events().len();
         }
         let allocations = counter.load(Ordering::SeqCst) - before;
@@ -122,7 +141,7 @@ fn ticks_allocate_nothing_for_any_integrator_on_one_thread() {
     for drag in [false, true] {
         for integrator in Integrator::ALL {
             let scene = bouncing(64, integrator, drag);
-            let n = allocations_after_warm_up(&scene, 1);
+            let n = allocations_after_warm_up(&scene, 1, false);
             assert_eq!(n, 0, "{integrator}, drag {drag}");
         }
     }
@@ -134,8 +153,19 @@ fn ticks_allocate_nothing_for_any_integrator_on_two_threads() {
     let bodies = 2 * PARALLEL_MIN_CHUNK as u32 + 3;
     for integrator in Integrator::ALL {
         let scene = bouncing(bodies, integrator, true);
-        let n = allocations_after_warm_up(&scene, 2);
+        let n = allocations_after_warm_up(&scene, 2, false);
         assert_eq!(n, 0, "{integrator}");
+    }
+}
+
+#[test]
+fn recording_every_tick_allocates_nothing() {
+    // 64 bodies hash from one stack buffer, 200 stream in blocks; velocity Verlet's keyframes
+    // carry its force.
+    for bodies in [64, 200] {
+        let scene = bouncing(bodies, Integrator::VelocityVerlet, true);
+        let n = allocations_after_warm_up(&scene, 1, true);
+        assert_eq!(n, 0, "{bodies} bodies");
     }
 }
 

@@ -405,13 +405,20 @@ fn an_interrupted_recording_is_a_prefix_and_opens_truncated_after_its_last_tick(
         let mut recorder = Recorder::start(&mut interrupted, &sim.world, options(1, 25)).unwrap();
         sim.run_until(40, &mut VirtualClock::Steady(scene.timestep), &mut recorder)
             .unwrap();
-        // Dropped without `finish`, as a run that stops without ending its recording.
+        // Dropped without `finish`, as a run that stops without ending its recording: the
+        // drop closes the open run of hashes (ticks 26 to 40, after the keyframe of tick 25).
     }
+    let last = *frame_starts(&interrupted).last().unwrap();
     assert!(
-        full.starts_with(&interrupted),
-        "append-only: the same run writes the same bytes"
+        full.starts_with(&interrupted[..last]),
+        "append-only: the same run writes the same records up to the run the drop closed"
     );
-    let rec = open(&interrupted).unwrap();
+    let (full_rec, rec) = (open(&full).unwrap(), open(&interrupted).unwrap());
+    assert_eq!(
+        rec.hashes(),
+        &full_rec.hashes()[..41],
+        "the hashes of ticks 0 to 40"
+    );
     assert!(rec.footer().is_none());
     assert_eq!(
         (rec.truncated_at(), rec.end_tick()),
@@ -421,12 +428,17 @@ fn an_interrupted_recording_is_a_prefix_and_opens_truncated_after_its_last_tick(
     assert!(r.first_divergence().is_none());
     assert_eq!((r.world().tick(), r.hashes_checked()), (40, 41));
 
-    // Cut inside the last record (the hash of tick 40): the file keeps ticks up to 39.
+    // Cut inside the last record (the hashes of ticks 26 to 40): the file keeps ticks up to
+    // 25, the keyframe before it.
     let cut = &interrupted[..interrupted.len() - 1];
     let rec = open(cut).unwrap();
-    let last = (interrupted.len() - volley::replay::format::HASH_FRAME_LEN) as u64;
-    assert_eq!((rec.truncated_at(), rec.end_tick()), (Some(last), 39));
-    assert!(replay(cut, None).first_divergence().is_none());
+    assert_eq!(
+        (rec.truncated_at(), rec.end_tick()),
+        (Some(last as u64), 25)
+    );
+    let r = replay(cut, None);
+    assert!(r.first_divergence().is_none());
+    assert_eq!((r.world().tick(), r.hashes_checked()), (25, 26));
 
     // Cut inside the header or the first keyframe: nothing to replay.
     let keyframe_start = frame_starts(&interrupted)[1];
@@ -518,16 +530,20 @@ fn wrong_magic_another_format_version_or_an_unparsable_scene_is_a_one_line_error
     let mut magic = bytes.clone();
     magic[1] = b'X';
     let mut newer = bytes.clone();
-    newer[8..12].copy_from_slice(&2u32.to_le_bytes());
+    newer[8..12].copy_from_slice(&3u32.to_le_bytes());
     let mut older = bytes.clone();
     older[8..12].copy_from_slice(&0u32.to_le_bytes());
+    // Version 1 stored one record per hash; its files are refused, not misread.
+    let mut version_1 = bytes.clone();
+    version_1[8..12].copy_from_slice(&1u32.to_le_bytes());
     let cases = [
         (magic, "not a Volley recording (wrong magic bytes)"),
         (
             newer,
-            "format version 2 is newer than the one this build reads (1)",
+            "format version 3 is newer than the one this build reads (2)",
         ),
         (older, "format version 0 is older"),
+        (version_1, "format version 1 is older"),
         (bytes[..5].to_vec(), "wrong magic"),
     ];
     for (file, expected) in cases {

@@ -9,12 +9,14 @@
 //! - `parallel`: the same step at N = 1e6 on one and two threads;
 //! - `seed`: the seed scene through [`volley::SimLoop`], per tick;
 //! - `hash`: the canonical state hash;
-//! - `record`: recording overhead (a marked placeholder until the recorder lands);
+//! - `record`: a tick with and without a [`volley::replay::Recorder`], in memory and into a
+//!   file, hashing every tick, every 10th and every 100th ([`record`]);
 //! - `peer` (with `--features peer`): rapier3d-f64 stepping free bodies at the same dt.
 //!
-//! After criterion, the run times `volley headless seed --ticks 1000000 --no-table` as a process,
-//! times the comparisons the issue sets goals for once more interleaved ([`paired`]), and prints
-//! every ratio computed from this run's numbers ([`report`]). With
+//! After criterion, the run times `volley headless seed --ticks 1000000 --no-table` as a process
+//! and `volley record` of the same ticks beside it ([`e2e`]), times the comparisons the issue
+//! sets goals for once more interleaved ([`paired`], [`record::paired`]), and prints every ratio
+//! computed from this run's numbers ([`report`]). With
 //! `VOLLEY_BENCH_WRITE=BENCHMARKS.md` it also rewrites the generated block of that file;
 //! `scripts/bench` does exactly that.
 
@@ -28,6 +30,7 @@ mod machine;
 mod paired;
 #[cfg(feature = "peer")]
 mod peer;
+mod record;
 mod reference;
 mod report;
 mod scenes;
@@ -54,7 +57,18 @@ pub fn sized(group: &mut BenchmarkGroup<'_, WallTime>, n: u64) {
     }
 }
 
+/// The font criterion's plots are drawn with. The crate's `plotters` renders text with
+/// `ab_glyph` (for `volley study`'s plots), which finds no system fonts: a family must be
+/// registered, or criterion's first plot panics.
+static PLOT_FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans-subset.ttf");
+
 fn main() {
+    use plotters::style::FontStyle;
+    for style in [FontStyle::Normal, FontStyle::Bold] {
+        if plotters::style::register_font("sans-serif", style, PLOT_FONT).is_err() {
+            eprintln!("cannot load the plot font: criterion's plots may fail");
+        }
+    }
     let started = SystemTime::now();
     let load_before = report::load_average();
     let dir = report::output_dir();
@@ -66,7 +80,7 @@ fn main() {
     step::bench_parallel(&mut c);
     tick::bench_seed(&mut c);
     tick::bench_hash(&mut c);
-    tick::bench_record(&mut c);
+    record::bench(&mut c);
     #[cfg(feature = "peer")]
     peer::bench(&mut c);
     c.final_summary();
@@ -79,7 +93,7 @@ fn main() {
         let filtered = args
             .iter()
             .any(|a| !a.starts_with('-') && a.parse::<f64>().is_err());
-        let e2e = (!filtered).then(e2e::measure);
+        let e2e = (!filtered).then(|| e2e::measure(&dir));
         let pairs = if filtered {
             Vec::new()
         } else {
@@ -87,7 +101,11 @@ fn main() {
             let peer_pairs = peer::paired();
             #[cfg(not(feature = "peer"))]
             let peer_pairs = Vec::new();
-            paired::all().into_iter().chain(peer_pairs).collect()
+            paired::all()
+                .into_iter()
+                .chain(record::paired())
+                .chain(peer_pairs)
+                .collect()
         };
         report::run(&dir, started, load_before, e2e, &pairs);
     }

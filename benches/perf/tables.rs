@@ -11,7 +11,7 @@ use crate::paired::{self, Pair, ROUNDS};
 use crate::reference::{REFERENCE_DRAM_N, TRIAD_BYTES, TRIAD_LEN, TRIAD_MOVED};
 use crate::scenes::BenchScene;
 use crate::step::{PARALLEL_CASES, PARALLEL_N, parallel_name};
-use crate::tick::{HASH_BYTES_PER_BODY, RECORD_STAND_IN, RECORD_VOLLEY, SEED_TICKS};
+use crate::tick::{HASH_BYTES_PER_BODY, SEED_TICKS};
 use crate::{SIZES, e2e, report};
 
 /// Criterion's estimate of one iteration (ns) with its 95 % confidence interval.
@@ -103,7 +103,7 @@ pub fn all(md: &mut String, r: &Results, e2e: Option<&Result<E2e, String>>) -> b
     complete &= parallel(md, r);
     complete &= seed(md, r, e2e);
     complete &= hashing(md, r);
-    complete &= recording(md, r);
+    complete &= crate::record::table(md, r, e2e);
     complete &= peer(md, r);
     complete
 }
@@ -395,42 +395,6 @@ fn hashing(md: &mut String, r: &Results) -> bool {
             size_name(n),
             opt(per, sig),
             opt(per, |ns| sig(HASH_BYTES_PER_BODY as f64 / ns))
-        );
-    }
-    complete
-}
-
-fn recording(md: &mut String, r: &Results) -> bool {
-    let _ = writeln!(
-        md,
-        "\n### Recording overhead (placeholder until the recorder is merged)\n"
-    );
-    let _ = writeln!(
-        md,
-        "`SimLoop::frame` per tick without an observer (off) and with a stand-in that hashes the \
-         state after every tick, the least a verifying recorder does. The issue's budget for real \
-         recording is 5 %.\n"
-    );
-    let _ = writeln!(
-        md,
-        "| world | off ns/tick | stand-in ns/tick | overhead |\n|---|---:|---:|---:|"
-    );
-    let mut complete = true;
-    for world in ["seed".to_string(), format!("volley-{RECORD_VOLLEY}")] {
-        let off = r.get(&format!("record/off/{world}")).map(|e| e.ns);
-        let on = r
-            .get(&format!("record/{RECORD_STAND_IN}/{world}"))
-            .map(|e| e.ns);
-        complete &= off.is_some() && on.is_some();
-        let _ = writeln!(
-            md,
-            "| {world} | {} | {} | {} |",
-            opt(off, sig),
-            opt(on, sig),
-            opt(off.zip(on).map(|(a, b)| b / a - 1.0), |x| format!(
-                "{:.1} %",
-                100.0 * x
-            ))
         );
     }
     complete

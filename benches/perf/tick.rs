@@ -1,11 +1,10 @@
-//! Per-tick costs of the loop: the seed scene, the state hash, and recording.
+//! Per-tick costs of the loop: the seed scene and the state hash (recording: [`crate::record`]).
 
 use std::hint::black_box;
 
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput};
 use volley::hash::state_hash;
-use volley::sim_loop::ObserverError;
-use volley::{Integrator, SimLoop, TickObserver, World};
+use volley::{Integrator, SimLoop, World};
 
 use crate::scenes::{self, BenchScene};
 use crate::{SIZES, sized};
@@ -67,54 +66,3 @@ pub fn bench_hash(c: &mut Criterion) {
     }
     group.finish();
 }
-
-/// Hashes the state after every tick: the least any recorder that verifies a replay does.
-struct HashEveryTick(u64);
-
-impl TickObserver for HashEveryTick {
-    fn after_tick(&mut self, world: &World) -> Result<(), ObserverError> {
-        self.0 ^= state_hash(world);
-        Ok(())
-    }
-}
-
-/// Bodies in the recording benchmark's second world.
-pub const RECORD_VOLLEY: u64 = 1_000;
-
-/// Benchmarks `record/off/WORLD` and `record/STAND-IN/WORLD` for the seed scene and a
-/// 1e3-body volley, one tick per iteration.
-///
-/// PLACEHOLDER(replay): the recorder lands with `src/replay.rs` on the replay branch. Until it
-/// is merged, the "on" side is a stand-in observer that hashes the state after every tick (a
-/// lower bound on a verifying recorder). After the merge, replace `HashEveryTick` with the real
-/// recorder writing to an in-memory sink, rename the function id to `on`, and keep `off`; the
-/// report prints the overhead `on / off - 1` against the 5 % budget.
-pub fn bench_record(c: &mut Criterion) {
-    let mut group = c.benchmark_group("record");
-    sized(&mut group, 1);
-    group.throughput(Throughput::Elements(1));
-    let worlds = [
-        ("seed", World::new(&scenes::seed())),
-        (
-            "volley-1000",
-            BenchScene::Gravity.world(RECORD_VOLLEY, Integrator::SemiImplicitEuler, 1),
-        ),
-    ];
-    for (name, world) in worlds {
-        let dt = world.scene().timestep;
-        let mut sim = SimLoop::new(world.clone());
-        group.bench_function(BenchmarkId::new("off", name), |b| {
-            b.iter(|| sim.frame(dt, &mut ()).expect("the scene runs"))
-        });
-        let mut sim = SimLoop::new(world);
-        let mut recorder = HashEveryTick(0);
-        group.bench_function(BenchmarkId::new(RECORD_STAND_IN, name), |b| {
-            b.iter(|| sim.frame(dt, &mut recorder).expect("the scene runs"))
-        });
-        black_box(recorder.0);
-    }
-    group.finish();
-}
-
-/// Function id of the recording stand-in (see [`bench_record`]).
-pub const RECORD_STAND_IN: &str = "stand-in-hash-every-tick";

@@ -1,4 +1,4 @@
-//! Recording format version 1: the preamble, the frame, and each record's payload.
+//! Recording format version 2: the preamble, the frame, and each record's payload.
 //!
 //! ```text
 //! file      = preamble frame*
@@ -16,12 +16,22 @@
 //! | 1 | header | JSON [`Header`]: build facts, the scene text verbatim, timestep, substeps, integrator, start tick, intervals |
 //! | 2 | keyframe | a [`crate::world::Snapshot`]: see [`super::keyframe::encode_keyframe`] |
 //! | 3 | command | `tick:u64` and the command in its script form (UTF-8), applied before the step from `tick` |
-//! | 4 | hash | `tick:u64  state_hash:u64` (the canonical hash of `crate::hash`) |
+//! | 4 | hashes | `first_tick:u64  stride:u64  state_hash:u64 × n`, 1 ≤ n ≤ [`HASH_RUN_MAX`]: the canonical hashes (`crate::hash`) of ticks `first_tick + k·stride`, k = 0..n, stride ≥ 1 |
 //! | 5 | footer | `final_tick:u64  final_hash:u64` and the divergence that ended the run, if one did |
 //!
-//! Order: the header, the keyframe at the start tick, then per tick its hash (every
-//! `hash_every` ticks), its keyframe (every `keyframe_every` ticks) and the commands applied
-//! before its step; at the end a keyframe of the final state and the footer.
+//! Order: the header, the keyframe at the start tick, then by tick: the hashes of hashed ticks
+//! (every `hash_every` ticks), keyframes (every `keyframe_every` ticks) and the commands applied
+//! before a tick's step; at the end a keyframe of the final state and the footer. Records never
+//! go back in time.
+//!
+//! Hashes come in runs: the recorder collects the hashes of consecutive hashed ticks and writes
+//! them as one record with one CRC ([`HashRun`]), 8 bytes a tick where a record per tick took 27
+//! and a CRC each. A run is closed by a keyframe, a command, the footer, [`HASH_RUN_MAX`] hashes
+//! and every flush, so records stay in tick order and a flush still hands every hash computed so
+//! far to the file: a recording cut short keeps every tick flushed before the cut.
+//!
+//! Version 1 (never released outside this repository) had one 16-byte hash record per tick;
+//! this build refuses it as another format version.
 
 use std::io::{self, Write};
 
@@ -34,15 +44,17 @@ use crate::world::{BodyId, Divergence, DivergenceCause};
 /// mode transfer that rewrites bytes is caught at once).
 pub const MAGIC: [u8; 8] = *b"\x89VOLLEY\n";
 /// The format version this build writes and the only one it reads.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 /// Bytes before the first frame: magic and version.
 pub const PREAMBLE_LEN: usize = 12;
 /// Bytes of a frame head: kind, length, head check.
 pub const HEAD_LEN: usize = 7;
 /// Bytes of the CRC after a payload.
 pub const CRC_LEN: usize = 4;
-/// Bytes of a whole hash frame, the one written every tick.
-pub const HASH_FRAME_LEN: usize = HEAD_LEN + 16 + CRC_LEN;
+/// Most hashes one hash record holds: 8 KiB of hashes, one CRC.
+pub const HASH_RUN_MAX: usize = 1024;
+/// Bytes of a hash record's payload before its hashes: first tick and stride.
+pub const HASH_RUN_FIXED: usize = 16;
 
 /// What a frame holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,7 +65,7 @@ pub enum Kind {
     Keyframe = 2,
     /// A command applied at a tick boundary.
     Command = 3,
-    /// The state hash after a tick.
+    /// The state hashes after a run of ticks.
     Hash = 4,
     /// The final tick and hash.
     Footer = 5,
@@ -79,7 +91,7 @@ impl Kind {
             Kind::Header => "header",
             Kind::Keyframe => "keyframe",
             Kind::Command => "command",
-            Kind::Hash => "hash",
+            Kind::Hash => "hashes",
             Kind::Footer => "footer",
         }
     }
@@ -90,7 +102,7 @@ impl Kind {
             Kind::Header => 2..=(64 << 20),
             Kind::Keyframe => super::keyframe::KEYFRAME_FIXED as u32..=u32::MAX,
             Kind::Command => 9..=4096,
-            Kind::Hash => 16..=16,
+            Kind::Hash => (HASH_RUN_FIXED + 8) as u32..=(HASH_RUN_FIXED + 8 * HASH_RUN_MAX) as u32,
             Kind::Footer => FOOTER_LEN as u32..=FOOTER_LEN as u32,
         }
     }
@@ -131,35 +143,88 @@ pub fn write_frame(out: &mut impl Write, kind: Kind, payload: &[u8]) -> io::Resu
     Ok((HEAD_LEN + payload.len() + CRC_LEN) as u64)
 }
 
-/// Builds the hash frame of a tick on the stack: the per-tick write is one `write_all` of
-/// [`HASH_FRAME_LEN`] bytes. The head is the same for every hash frame, so it and its share of
-/// the CRC are computed once.
-#[derive(Clone)]
-pub struct HashFrames {
-    head: [u8; HEAD_LEN],
-    crc: crc32fast::Hasher,
+/// The hashes of consecutive hashed ticks, collected into one hash record (kind 4).
+///
+/// The frame is built in place in a buffer allocated once: a push appends 8 bytes; closing
+/// fills in the head, appends the CRC of the whole frame and writes it with one `write_all`.
+#[derive(Clone, Debug)]
+pub struct HashRun {
+    /// The frame so far: head (filled in on closing), first tick, stride, the hashes.
+    frame: Vec<u8>,
+    /// Ticks between consecutive hashes.
+    stride: u64,
+    /// Hashes in the run.
+    len: usize,
+    /// The tick whose hash would continue the run.
+    next: u64,
 }
 
-impl Default for HashFrames {
-    fn default() -> Self {
-        let head = frame_head(Kind::Hash, 16);
-        let mut crc = crc32fast::Hasher::new();
-        crc.update(&head);
-        HashFrames { head, crc }
+impl HashRun {
+    /// An empty run of hashes `stride` ticks apart (at least 1).
+    pub fn new(stride: u64) -> HashRun {
+        HashRun {
+            frame: Vec::with_capacity(HEAD_LEN + HASH_RUN_FIXED + 8 * HASH_RUN_MAX + CRC_LEN),
+            stride: stride.max(1),
+            len: 0,
+            next: 0,
+        }
     }
-}
 
-impl HashFrames {
-    /// The whole frame recording `hash` at `tick`.
-    pub fn frame(&self, tick: u64, hash: u64) -> [u8; HASH_FRAME_LEN] {
-        let mut f = [0u8; HASH_FRAME_LEN];
-        f[..HEAD_LEN].copy_from_slice(&self.head);
-        f[HEAD_LEN..HEAD_LEN + 8].copy_from_slice(&tick.to_le_bytes());
-        f[HEAD_LEN + 8..HEAD_LEN + 16].copy_from_slice(&hash.to_le_bytes());
-        let mut crc = self.crc.clone();
-        crc.update(&f[HEAD_LEN..HEAD_LEN + 16]);
-        f[HEAD_LEN + 16..].copy_from_slice(&crc.finalize().to_le_bytes());
-        f
+    /// Hashes in the run.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether the run holds no hash (closing it writes nothing).
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Whether the hash of `tick` can join the run: it is empty, or `tick` is the next one and
+    /// the run is not full.
+    #[inline]
+    pub fn takes(&self, tick: u64) -> bool {
+        self.len == 0 || (tick == self.next && self.len < HASH_RUN_MAX)
+    }
+
+    /// Adds the hash of `tick`, which the run must take (see [`HashRun::takes`]: close it
+    /// first otherwise).
+    #[inline]
+    pub fn push(&mut self, tick: u64, hash: u64) {
+        debug_assert!(self.takes(tick), "tick {tick} does not continue the run");
+        if self.len == 0 {
+            self.frame.clear();
+            self.frame.extend_from_slice(&[0; HEAD_LEN]);
+            self.frame.extend_from_slice(&tick.to_le_bytes());
+            self.frame.extend_from_slice(&self.stride.to_le_bytes());
+        }
+        self.frame.extend_from_slice(&hash.to_le_bytes());
+        self.len += 1;
+        self.next = tick.saturating_add(self.stride);
+    }
+
+    /// Bytes closing the run now would write: its whole frame, 0 when empty.
+    pub fn frame_len(&self) -> u64 {
+        if self.len == 0 {
+            0
+        } else {
+            (self.frame.len() + CRC_LEN) as u64
+        }
+    }
+
+    /// Writes the run as one hash record and empties it; returns the bytes written (none for
+    /// an empty run).
+    pub fn close(&mut self, out: &mut impl Write) -> io::Result<u64> {
+        if self.len == 0 {
+            return Ok(0);
+        }
+        self.len = 0;
+        let len = (self.frame.len() - HEAD_LEN) as u32;
+        self.frame[..HEAD_LEN].copy_from_slice(&frame_head(Kind::Hash, len));
+        let crc = crc32fast::hash(&self.frame);
+        self.frame.extend_from_slice(&crc.to_le_bytes());
+        out.write_all(&self.frame)?;
+        Ok(self.frame.len() as u64)
     }
 }
 

@@ -332,13 +332,12 @@ impl Index {
                 self.commands.push(Stamped { tick, command });
             }
             Kind::Hash => {
-                let hash = r.u64()?;
-                r.end()?;
                 if self.hashes.last().is_some_and(|&(t, _)| t == tick) {
                     return Err(format!("a second hash for tick {tick}"));
                 }
-                self.hashes.push((tick, hash));
-                self.checked_tick = Some(tick);
+                let last = self.take_hashes(tick, &mut r)?;
+                self.last_tick = Some(last);
+                self.checked_tick = Some(last);
             }
             Kind::Keyframe => {
                 if self.keyframes.is_empty() && tick != start {
@@ -367,6 +366,39 @@ impl Index {
             Kind::Header => unreachable!("handled above"),
         }
         Ok(())
+    }
+}
+
+impl Index {
+    /// Takes the hashes of a hash record whose first tick is `first` (read already); returns
+    /// the tick of its last hash.
+    fn take_hashes(&mut self, first: u64, r: &mut format::Reader) -> Result<u64, String> {
+        let stride = r.u64()?;
+        if stride == 0 {
+            return Err("stride 0 between hashed ticks".into());
+        }
+        let hashes = r.rest();
+        if hashes.is_empty() || !hashes.len().is_multiple_of(8) {
+            return Err(format!(
+                "{} bytes of hashes, not a whole number of them",
+                hashes.len()
+            ));
+        }
+        let n = (hashes.len() / 8) as u64;
+        let last = (n - 1)
+            .checked_mul(stride)
+            .and_then(|span| first.checked_add(span))
+            .ok_or_else(|| {
+                format!("{n} hashes from tick {first}, {stride} apart, pass the largest tick")
+            })?;
+        self.hashes
+            .extend(hashes.chunks_exact(8).zip(0..).map(|(h, k)| {
+                (
+                    first + k * stride,
+                    u64::from_le_bytes(h.try_into().expect("8 bytes")),
+                )
+            }));
+        Ok(last)
     }
 }
 

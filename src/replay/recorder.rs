@@ -1,13 +1,19 @@
 //! The recorder: a [`TickObserver`] that writes a recording as the loop runs.
 //!
-//! Per tick it hashes the world ([`state_hash`], which is most of the cost) and writes one
-//! 27-byte hash frame built on the stack into a 64 KiB buffer (no allocation); keyframes stream
-//! the world's arrays through the CRC from a snapshot buffer that is reused; commands are
-//! formatted into a reused string. The buffer reaches the file by the [`FlushPolicy`]: by
-//! default once at least 50 ms of wall time passed, so a run killed by Ctrl-C or a crash loses
-//! only its last moments and the file still opens, as truncated. The wall clock is read after
-//! a tick, by the observer, never inside one; and only every so many ticks when ticks are fast
-//! (see [`FlushPolicy::Interval`]).
+//! Per hashed tick it hashes the world ([`state_hash`], nearly all of the cost) and appends the
+//! 8-byte hash to the open run of hashes ([`format::HashRun`]), which becomes one hash record
+//! with one CRC when it is closed: by a keyframe, a command, 1024 hashes, a flush or the end.
+//! Whether a hash or keyframe is due is a comparison with the next due tick (no division per
+//! tick). Keyframes stream the world's arrays through the CRC from a snapshot buffer that is
+//! reused; commands are formatted into a reused string; nothing allocates per tick.
+//!
+//! Records reach the file through a 64 KiB buffer by the [`FlushPolicy`]: by default once at
+//! least 50 ms of wall time passed, so a run killed by Ctrl-C or a crash loses only its last
+//! moments and the file still opens, as truncated. A flush first closes the open run, so it
+//! hands over every hash computed so far. The wall clock is read after a tick, by the observer,
+//! never inside one; and only every so many ticks when ticks are fast (see
+//! [`FlushPolicy::Interval`]). A recorder dropped without [`Recorder::finish`] (an error path, a
+//! panic) closes its run and hands its buffer over, like a flush.
 //!
 //! Starting and stopping from another observer (the window's record toggle): hold an
 //! `Option<Recorder<W>>`, forward the [`TickObserver`] calls to it while it is `Some`, create it
@@ -35,6 +41,8 @@ pub enum FlushPolicy {
     /// interval stays within a few milliseconds of ticks.
     Interval(Duration),
     /// Only when the buffer fills and at [`Recorder::finish`] (benchmarks, in-memory writers).
+    /// Runs of hashes are then closed only by keyframes, commands and their size, so the file's
+    /// bytes do not depend on timing.
     OnFinish,
 }
 
@@ -70,7 +78,8 @@ pub struct RecordStats {
     pub start_tick: u64,
     /// The last tick seen.
     pub last_tick: u64,
-    /// Bytes written (buffered or not).
+    /// Bytes written (buffered or not), the open run of hashes included as the record it
+    /// becomes.
     pub bytes: u64,
     /// Hash records.
     pub hashes: u64,
@@ -82,20 +91,33 @@ pub struct RecordStats {
 
 /// Writes a recording of the world it observes to any [`Write`].
 pub struct Recorder<W: Write> {
-    out: BufWriter<W>,
+    /// The file behind its buffer; `None` only once [`Recorder::finish`] took it.
+    out: Option<BufWriter<W>>,
     options: RecordOptions,
     snapshot: Snapshot,
     text: String,
     payload: Vec<u8>,
+    /// The hashes not yet written as a record.
+    run: format::HashRun,
+    /// The next tick due a hash, and a keyframe (`u64::MAX`: none).
+    next_hash: u64,
+    next_keyframe: u64,
     last_flush: Instant,
     /// Clock reads for the flush policy: the last one, ticks between reads, ticks until the next.
     last_read: Instant,
     read_every: u32,
     until_read: u32,
-    hash_frames: format::HashFrames,
-    last_hash: Option<u64>,
     last_keyframe: u64,
     stats: RecordStats,
+}
+
+/// The first multiple of `every` (at least 1) after `tick`; no division when `every` is 1.
+fn next_multiple(tick: u64, every: u64) -> u64 {
+    if every == 1 {
+        tick.saturating_add(1)
+    } else {
+        (tick / every).saturating_add(1).saturating_mul(every)
+    }
 }
 
 impl<W: Write> Recorder<W> {
@@ -126,37 +148,45 @@ impl<W: Write> Recorder<W> {
         format::write_preamble(&mut out)?;
         let mut bytes = format::PREAMBLE_LEN as u64;
         bytes += format::write_frame(&mut out, Kind::Header, &json)?;
+        let tick = world.tick();
         let mut recorder = Recorder {
-            out,
-            options,
+            out: Some(out),
             snapshot: world.snapshot(),
             text: String::with_capacity(256),
             payload: Vec::with_capacity(256),
+            run: format::HashRun::new(options.hash_every),
+            next_hash: next_multiple(tick, options.hash_every),
+            next_keyframe: match options.keyframe_every {
+                0 => u64::MAX,
+                every => next_multiple(tick, every),
+            },
+            options,
             last_flush: Instant::now(),
             last_read: Instant::now(),
             read_every: 1,
             until_read: 1,
-            hash_frames: format::HashFrames::default(),
-            last_hash: None,
-            last_keyframe: world.tick(),
+            last_keyframe: tick,
             stats: RecordStats {
-                start_tick: world.tick(),
-                last_tick: world.tick(),
+                start_tick: tick,
+                last_tick: tick,
                 bytes,
                 ..RecordStats::default()
             },
         };
-        recorder.stats.bytes +=
-            super::keyframe::encode_keyframe(&mut recorder.out, &recorder.snapshot)?;
+        let out = recorder.out.as_mut().expect("the writer is set");
+        recorder.stats.bytes += super::keyframe::encode_keyframe(out, &recorder.snapshot)?;
         recorder.stats.keyframes = 1;
         recorder.write_hash(world)?;
-        recorder.out.flush()?;
+        recorder.flush()?;
         Ok(recorder)
     }
 
     /// What was written so far.
     pub fn stats(&self) -> RecordStats {
-        self.stats
+        RecordStats {
+            bytes: self.stats.bytes + self.run.frame_len(),
+            ..self.stats
+        }
     }
 
     /// Ends the recording at the world's current tick: a keyframe of the final state (unless
@@ -167,32 +197,58 @@ impl<W: Write> Recorder<W> {
         if tick != self.last_keyframe {
             self.write_keyframe(world)?;
         }
+        self.close_run()?;
         let footer = Footer {
             final_tick: tick,
             final_hash: state_hash(world),
             diverged: world.divergence(),
         };
-        self.stats.bytes +=
-            format::write_frame(&mut self.out, Kind::Footer, &format::encode_footer(&footer))?;
+        let payload = format::encode_footer(&footer);
+        self.stats.bytes += format::write_frame(self.out(), Kind::Footer, &payload)?;
         self.stats.last_tick = tick;
-        self.out.flush()?;
-        let out = self.out.into_inner().map_err(|e| e.into_error())?;
+        self.out().flush()?;
+        let out = self.out.take().expect("finish takes the writer once");
+        let out = out.into_inner().map_err(|e| e.into_error())?;
         Ok((out, self.stats))
+    }
+
+    /// The buffered writer.
+    fn out(&mut self) -> &mut BufWriter<W> {
+        self.out.as_mut().expect("only finish takes the writer")
+    }
+
+    /// Writes the open run of hashes as a record.
+    fn close_run(&mut self) -> io::Result<()> {
+        let Some(out) = self.out.as_mut() else {
+            return Ok(());
+        };
+        self.stats.bytes += self.run.close(out)?;
+        Ok(())
+    }
+
+    /// Closes the open run and hands everything to the file.
+    fn flush(&mut self) -> io::Result<()> {
+        self.close_run()?;
+        self.out().flush()?;
+        self.last_flush = Instant::now();
+        Ok(())
     }
 
     fn write_hash(&mut self, world: &World) -> io::Result<()> {
         let tick = world.tick();
-        let frame = self.hash_frames.frame(tick, state_hash(world));
-        self.out.write_all(&frame)?;
-        self.stats.bytes += format::HASH_FRAME_LEN as u64;
+        if !self.run.takes(tick) {
+            self.close_run()?;
+        }
+        self.run.push(tick, state_hash(world));
         self.stats.hashes += 1;
-        self.last_hash = Some(tick);
         Ok(())
     }
 
     fn write_keyframe(&mut self, world: &World) -> io::Result<()> {
+        self.close_run()?;
         world.snapshot_into(&mut self.snapshot);
-        self.stats.bytes += super::keyframe::encode_keyframe(&mut self.out, &self.snapshot)?;
+        let out = self.out.as_mut().expect("only finish takes the writer");
+        self.stats.bytes += super::keyframe::encode_keyframe(out, &self.snapshot)?;
         self.stats.keyframes += 1;
         self.last_keyframe = world.tick();
         Ok(())
@@ -201,12 +257,19 @@ impl<W: Write> Recorder<W> {
     fn tick(&mut self, world: &World) -> io::Result<()> {
         let tick = world.tick();
         self.stats.last_tick = tick;
-        if tick.is_multiple_of(self.options.hash_every) {
-            self.write_hash(world)?;
+        if tick >= self.next_hash {
+            let every = self.options.hash_every;
+            if every == 1 || tick.is_multiple_of(every) {
+                self.write_hash(world)?;
+            }
+            self.next_hash = next_multiple(tick, every);
         }
-        let every = self.options.keyframe_every;
-        if every > 0 && tick.is_multiple_of(every) {
-            self.write_keyframe(world)?;
+        if tick >= self.next_keyframe {
+            let every = self.options.keyframe_every;
+            if tick.is_multiple_of(every) {
+                self.write_keyframe(world)?;
+            }
+            self.next_keyframe = next_multiple(tick, every);
         }
         let due = match self.options.flush {
             FlushPolicy::EveryTick => true,
@@ -214,8 +277,7 @@ impl<W: Write> Recorder<W> {
             FlushPolicy::OnFinish => false,
         };
         if due {
-            self.out.flush()?;
-            self.last_flush = Instant::now();
+            self.flush()?;
         }
         Ok(())
     }
@@ -241,14 +303,25 @@ impl<W: Write> Recorder<W> {
 
     fn command(&mut self, stamped: &Stamped) -> io::Result<()> {
         use std::fmt::Write as _;
+        self.close_run()?;
         self.text.clear();
         write!(self.text, "{}", stamped.command).map_err(io::Error::other)?;
         self.payload.clear();
         self.payload.extend_from_slice(&stamped.tick.to_le_bytes());
         self.payload.extend_from_slice(self.text.as_bytes());
-        self.stats.bytes += format::write_frame(&mut self.out, Kind::Command, &self.payload)?;
+        let out = self.out.as_mut().expect("only finish takes the writer");
+        self.stats.bytes += format::write_frame(out, Kind::Command, &self.payload)?;
         self.stats.commands += 1;
         Ok(())
+    }
+}
+
+impl<W: Write> Drop for Recorder<W> {
+    /// Closes the open run of hashes into the buffer, which the buffer's own drop then hands
+    /// to the file: a recording dropped without [`Recorder::finish`] ends truncated after the
+    /// last tick it saw. Errors are ignored here, as `BufWriter` ignores them on drop.
+    fn drop(&mut self) {
+        let _ = self.close_run();
     }
 }
 
