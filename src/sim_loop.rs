@@ -8,7 +8,7 @@
 use std::collections::VecDeque;
 use std::time::Duration;
 
-use crate::clock::{FixedClock, FrameSource, FrameTicks};
+use crate::clock::{FixedClock, FrameSource, FrameTicks, VirtualClock};
 use crate::command::{Command, CommandError, Stamped};
 use crate::world::{Divergence, World};
 
@@ -27,10 +27,21 @@ pub trait TickObserver {
     }
     /// The world diverged at its current tick (its state is the bad one).
     fn on_divergence(&mut self, _world: &World, _divergence: &Divergence) {}
+    /// The first tick after `tick` whose state this observer needs in `after_tick`. The loop
+    /// may run the ticks up to it as one batch ([`World::step_ticks`], the same bits) and call
+    /// `after_tick` once at its end; it batches only worlds without contacts, which have no
+    /// events, so nothing between is lost. Default: every tick.
+    fn next_needed_tick(&self, tick: u64) -> u64 {
+        tick + 1
+    }
 }
 
-/// An observer that does nothing.
-impl TickObserver for () {}
+/// An observer that does nothing (and needs no tick).
+impl TickObserver for () {
+    fn next_needed_tick(&self, _tick: u64) -> u64 {
+        u64::MAX
+    }
+}
 
 /// An observer failed (a write error, a full disk); the loop stops.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -83,6 +94,10 @@ impl From<ObserverError> for LoopError {
         LoopError::Observer(e)
     }
 }
+
+/// Ticks per frame of [`SimLoop::unpaced_source`] as `volley headless` and `volley record`
+/// use it: as many as [`crate::step::BATCH_MAX_TICKS`].
+pub const UNPACED_FRAME_TICKS: u32 = crate::step::BATCH_MAX_TICKS as u32;
 
 /// The world, its clock, and the commands waiting for their tick.
 #[derive(Debug)]
@@ -145,22 +160,47 @@ impl SimLoop {
                 ticks.alpha = self.clock.alpha();
             }
         }
-        for k in 0..ticks.steps {
-            if let Err(e) = self.run_tick(k + 1 == ticks.steps, observer) {
+        let mut ran = 0;
+        while ran < ticks.steps {
+            let before = self.world.tick();
+            let result = self.run_ticks(ticks.steps - ran, observer);
+            if let Err(e) = result {
                 // The ticks this frame granted but did not run go back into the accumulator, so
                 // the clock's tick count stays the world's and no time is silently lost.
-                let ran = k + u32::from(!matches!(e, LoopError::Command { .. }));
+                let stepped = match e {
+                    LoopError::Command { .. } => self.world.tick() - before,
+                    _ => (self.world.tick() - before).max(1),
+                };
+                ran += stepped as u32;
                 self.clock.return_ticks(ticks.steps - ran);
                 return Err(e);
             }
+            ran += (self.world.tick() - before) as u32;
         }
         Ok(ticks)
     }
 
-    /// One tick: due commands, the step, the observer.
-    fn run_tick(&mut self, last: bool, observer: &mut impl TickObserver) -> Result<(), LoopError> {
+    /// Due commands, then one tick, or a batch of ticks when `left` (the frame's ticks still to
+    /// run) allows one: up to the next queued command and the observer's next needed tick,
+    /// never the frame's last tick (a renderer keeps the state before it), in a world without
+    /// contacts.
+    fn run_ticks(&mut self, left: u32, observer: &mut impl TickObserver) -> Result<(), LoopError> {
         self.apply_due(observer)?;
-        if last {
+        let tick = self.world.tick();
+        let mut batch = u64::from(left - 1);
+        if let Some(next) = self.queue.front() {
+            batch = batch.min(next.tick.saturating_sub(tick));
+        }
+        batch = batch.min(observer.next_needed_tick(tick).saturating_sub(tick));
+        if batch >= 2 && self.world.contacts().is_empty() {
+            if let Err(d) = self.world.step_ticks(batch) {
+                observer.on_divergence(&self.world, &d);
+                return Err(LoopError::Diverged(d));
+            }
+            observer.after_tick(&self.world)?;
+            return Ok(());
+        }
+        if left == 1 {
             observer.before_last_tick(&self.world);
         }
         if let Err(d) = self.world.step() {
@@ -192,6 +232,21 @@ impl SimLoop {
             observer.on_command(&self.world, &applied)?;
         }
         Ok(())
+    }
+
+    /// A frame source for a run without a display (headless, record): each frame grants up to
+    /// `ticks` ticks (the clock's clamp and cap are raised to allow it), so the loop can batch
+    /// the ticks its observer does not need. The result does not depend on it: any frame-delta
+    /// sequence gives the same bits.
+    pub fn unpaced_source(&mut self, ticks: u32) -> VirtualClock {
+        let step = self.clock.timestep();
+        let (delta, ticks) = match step.checked_mul(ticks) {
+            Some(delta) => (delta, ticks),
+            None => (step, 1),
+        };
+        self.clock.max_frame_delta = self.clock.max_frame_delta.max(delta);
+        self.clock.max_steps_per_frame = self.clock.max_steps_per_frame.max(ticks);
+        VirtualClock::Steady(delta)
     }
 
     /// Runs frames from `source` until the world reaches `tick`.

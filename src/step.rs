@@ -20,7 +20,7 @@ use glam::DVec3;
 use crate::contact::{self, Event, Particle, StepFrame};
 use crate::forces::ForceModel;
 use crate::integrate::{BodyState, Mass, Scheme, SchemeVisitor, visit};
-use crate::world::{BodyId, Divergence, DivergenceCause, World};
+use crate::world::{BodyId, Divergence, DivergenceCause, Vec3s, World};
 
 /// Bodies per chunk below which stepping stays on one thread.
 pub const PARALLEL_MIN_CHUNK: usize = 16 * 1024;
@@ -58,20 +58,7 @@ impl World {
 
     /// Integrate + contacts over all bodies; returns the first body whose state is not finite.
     fn integrate(&mut self, tick: u64, t0: f64, h: f64) -> Option<usize> {
-        let n = self.bodies.len();
-        let chunks = if self.threads > 1 && n >= 2 * PARALLEL_MIN_CHUNK {
-            self.threads.min(n / PARALLEL_MIN_CHUNK)
-        } else {
-            1
-        };
-        if self.chunk_events.len() < chunks {
-            self.chunk_events.resize_with(chunks, Vec::new);
-        }
-        let carries = self.integrator == crate::Integrator::VelocityVerlet;
-        if carries && self.carry.len() != n {
-            self.carry.resize(n);
-            self.carry_valid = false;
-        }
+        let (chunks, carries) = self.prepare_chunks();
         let gravity = self.forces.gravity.map_or(0.0, DVec3::length);
         let frame = StepFrame {
             contacts: &self.contacts,
@@ -81,27 +68,13 @@ impl World {
             rest_speed: gravity * h,
         };
         let b = &mut self.bodies;
-        let (cx, cy, cz): (&mut [f64], &mut [f64], &mut [f64]) = if carries {
-            (&mut self.carry.x, &mut self.carry.y, &mut self.carry.z)
-        } else {
-            (&mut [], &mut [], &mut [])
-        };
-        let lanes = Lanes {
-            offset: 0,
+        let fixed = Fixed {
             ids: &b.id,
-            px: &mut b.p.x,
-            py: &mut b.p.y,
-            pz: &mut b.p.z,
-            mx: &mut b.mv.x,
-            my: &mut b.mv.y,
-            mz: &mut b.mv.z,
-            cx,
-            cy,
-            cz,
             mass: &b.mass,
             inv_mass: &b.inv_mass,
             radius: &b.radius,
         };
+        let lanes = fixed.lanes(&mut b.p, &mut b.mv, &mut self.carry, carries);
         let out = visit(
             self.integrator,
             &self.forces,
@@ -119,6 +92,131 @@ impl World {
             buffer.clear();
         }
         out.first_non_finite
+    }
+
+    /// The number of parallel chunks for this world's size and thread count, with an event
+    /// buffer for each; sizes Verlet's carried force (invalidating it when the count changed).
+    /// Returns the chunk count and whether the integrator carries a force.
+    fn prepare_chunks(&mut self) -> (usize, bool) {
+        let n = self.bodies.len();
+        let chunks = if self.threads > 1 && n >= 2 * PARALLEL_MIN_CHUNK {
+            self.threads.min(n / PARALLEL_MIN_CHUNK)
+        } else {
+            1
+        };
+        if self.chunk_events.len() < chunks {
+            self.chunk_events.resize_with(chunks, Vec::new);
+        }
+        let carries = self.integrator == crate::Integrator::VelocityVerlet;
+        if carries && self.carry.len() != n {
+            self.carry.resize(n);
+            self.carry_valid = false;
+        }
+        (chunks, carries)
+    }
+
+    /// Advances the world by `n` ticks: the same bits, events, force-evaluation count and
+    /// divergence (tick, body, cause) as `n` calls of [`World::step`], stopping at the first
+    /// divergence. Only the last tick's events are kept, so [`crate::SimLoop`] batches only
+    /// when the observer asked for no tick in between.
+    ///
+    /// A world without contacts (so without events) runs **batches**: its bodies do not
+    /// interact, so each block of [`BATCH_BLOCK`] bodies runs every tick of the batch while it
+    /// sits in the core's cache before the next block is loaded, and the state crosses the
+    /// memory bus once per batch instead of once per tick; the energy guard checks each block
+    /// at the ticks it is due, while the block is still in cache. A batch is at most
+    /// [`BATCH_MAX_TICKS`] long. Each body goes through exactly the operations `step` applies,
+    /// in the same order, so the bits are the same. Before a batch the state is saved (as each
+    /// block is loaded); if any body turns non-finite or trips the guard inside it, the batch
+    /// is undone and run again tick by tick, so the run stops at exactly the tick, body and
+    /// cause `step` names.
+    /// With contacts the ticks run one by one.
+    pub fn step_ticks(&mut self, n: u64) -> Result<(), Divergence> {
+        if let Some(d) = self.diverged {
+            return Err(d);
+        }
+        let batches = self.contacts.is_empty();
+        let mut left = n;
+        while left > 0 {
+            let m = left.min(BATCH_MAX_TICKS);
+            if batches && m >= 2 && self.integrate_batch(m) {
+                self.tick += m;
+            } else {
+                for _ in 0..m {
+                    self.step()?;
+                }
+            }
+            left -= m;
+        }
+        Ok(())
+    }
+
+    /// Runs `ticks` ticks of a world without contacts block by block; returns false, with the
+    /// state, the carried force and the counters as they were, if a body turned non-finite or
+    /// passed its energy bound at a tick the guard checks.
+    fn integrate_batch(&mut self, ticks: u64) -> bool {
+        self.events.clear();
+        let (chunks, carries) = self.prepare_chunks();
+        let n = self.bodies.len();
+        let t0 = self.time_of(self.tick);
+        let saved = &mut self.batch_backup;
+        saved.p.resize(n);
+        saved.mv.resize(n);
+        saved.carry.resize(if carries { n } else { 0 });
+        let h = self.h / f64::from(self.substeps);
+        let frame = StepFrame {
+            contacts: &self.contacts,
+            tick: self.tick + 1,
+            t0,
+            h,
+            rest_speed: 0.0,
+        };
+        let b = &mut self.bodies;
+        let fixed = Fixed {
+            ids: &b.id,
+            mass: &b.mass,
+            inv_mass: &b.inv_mass,
+            radius: &b.radius,
+        };
+        let lanes = fixed.lanes(&mut b.p, &mut b.mv, &mut self.carry, carries);
+        let saved_lanes = fixed.lanes(&mut saved.p, &mut saved.mv, &mut saved.carry, carries);
+        // The guard's test, on the model `guard_energy` uses, so it trips exactly where it would.
+        let (caps, forces) = (&b.energy_cap[..], &self.forces);
+        let field = forces.constant_field();
+        let over_cap = move |l: &Lanes| match &field {
+            Some(field) => lanes_over_cap(l, field, caps),
+            None => lanes_over_cap(l, forces, caps),
+        };
+        let guard = Guard {
+            every: u64::from(self.scene.guard.every),
+            first_tick: self.tick + 1,
+            over_cap: &over_cap,
+        };
+        let out = visit(
+            self.integrator,
+            &self.forces,
+            Batch {
+                lanes,
+                saved: saved_lanes,
+                frame: &frame,
+                events: &mut self.chunk_events[..chunks],
+                carry_valid: self.carry_valid,
+                ticks,
+                substeps: self.substeps,
+                guard: &guard,
+            },
+        );
+        if out.first_non_finite.is_some() {
+            self.bodies.p.copy_from(&self.batch_backup.p);
+            self.bodies.mv.copy_from(&self.batch_backup.mv);
+            if carries {
+                self.carry.copy_from(&self.batch_backup.carry);
+            }
+            return false;
+        }
+        self.carry_valid = out.carried;
+        self.force_evals += out.evals;
+        true
     }
 
     /// The energy guard stage: every `guard.every` ticks, the first body whose energy passed
@@ -157,6 +255,16 @@ fn first_over_cap<F: ForceModel>(b: &crate::world::Bodies, f: &F) -> Option<(usi
     })
 }
 
+/// Whether any body of `l` has more energy than its bound: [`first_over_cap`]'s test.
+fn lanes_over_cap<F: ForceModel>(l: &Lanes, f: &F, caps: &[f64]) -> bool {
+    let n = l.len();
+    let cap = &caps[l.offset..l.offset + n];
+    (0..n).any(|i| {
+        let v = DVec3::new(l.mx[i], l.my[i], l.mz[i]) * l.inv_mass[i];
+        f.energy(DVec3::new(l.px[i], l.py[i], l.pz[i]), v, l.mass[i]) > cap[i]
+    })
+}
+
 /// Mutable view of a contiguous run of bodies, the unit of work of one thread.
 struct Lanes<'a> {
     /// Storage index of the first body.
@@ -185,9 +293,105 @@ fn split_mut(s: &mut [f64], mid: usize) -> (&mut [f64], &mut [f64]) {
     }
 }
 
+/// The per-body arrays a step reads but does not write.
+#[derive(Clone, Copy)]
+struct Fixed<'a> {
+    ids: &'a [BodyId],
+    mass: &'a [f64],
+    inv_mass: &'a [f64],
+    radius: &'a [f64],
+}
+
+impl<'a> Fixed<'a> {
+    /// Lanes over these bodies with `p`, `mV` and (if `carries`) the carried force.
+    fn lanes(
+        self,
+        p: &'a mut Vec3s,
+        mv: &'a mut Vec3s,
+        carry: &'a mut Vec3s,
+        carries: bool,
+    ) -> Lanes<'a> {
+        let (cx, cy, cz): (&mut [f64], &mut [f64], &mut [f64]) = if carries {
+            (&mut carry.x, &mut carry.y, &mut carry.z)
+        } else {
+            (&mut [], &mut [], &mut [])
+        };
+        Lanes {
+            offset: 0,
+            ids: self.ids,
+            px: &mut p.x,
+            py: &mut p.y,
+            pz: &mut p.z,
+            mx: &mut mv.x,
+            my: &mut mv.y,
+            mz: &mut mv.z,
+            cx,
+            cy,
+            cz,
+            mass: self.mass,
+            inv_mass: self.inv_mass,
+            radius: self.radius,
+        }
+    }
+}
+
+/// The state [`World::step_ticks`] saves before a batch, to undo it.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct BatchBackup {
+    p: Vec3s,
+    mv: Vec3s,
+    carry: Vec3s,
+}
+
+/// Bodies per block of a batch: with their backup (about 136 bytes a body) a block stays in
+/// the L2 cache while it runs every tick of the batch.
+pub const BATCH_BLOCK: usize = 2048;
+
+/// The longest batch [`World::step_ticks`] runs: long enough that saving the state (one write
+/// of 48 bytes a body per batch) costs little, short enough that undoing a batch that diverged
+/// costs little.
+pub const BATCH_MAX_TICKS: u64 = 64;
+
+fn sub_mut(s: &mut [f64], start: usize, end: usize) -> &mut [f64] {
+    if s.is_empty() { s } else { &mut s[start..end] }
+}
+
 impl<'a> Lanes<'a> {
     fn len(&self) -> usize {
         self.ids.len()
+    }
+
+    /// The bodies `start..end` of these lanes, borrowed.
+    fn sub(&mut self, start: usize, end: usize) -> Lanes<'_> {
+        Lanes {
+            offset: self.offset + start,
+            ids: &self.ids[start..end],
+            px: &mut self.px[start..end],
+            py: &mut self.py[start..end],
+            pz: &mut self.pz[start..end],
+            mx: &mut self.mx[start..end],
+            my: &mut self.my[start..end],
+            mz: &mut self.mz[start..end],
+            cx: sub_mut(self.cx, start, end),
+            cy: sub_mut(self.cy, start, end),
+            cz: sub_mut(self.cz, start, end),
+            mass: &self.mass[start..end],
+            inv_mass: &self.inv_mass[start..end],
+            radius: &self.radius[start..end],
+        }
+    }
+
+    /// Copies the written state (p, mV, carried force) of `from` into these lanes.
+    fn copy_state(&mut self, from: &Lanes) {
+        self.px.copy_from_slice(from.px);
+        self.py.copy_from_slice(from.py);
+        self.pz.copy_from_slice(from.pz);
+        self.mx.copy_from_slice(from.mx);
+        self.my.copy_from_slice(from.my);
+        self.mz.copy_from_slice(from.mz);
+        self.cx.copy_from_slice(from.cx);
+        self.cy.copy_from_slice(from.cy);
+        self.cz.copy_from_slice(from.cz);
     }
 
     fn split_at(self, mid: usize) -> (Lanes<'a>, Lanes<'a>) {
@@ -292,6 +496,124 @@ impl SchemeVisitor for Integrate<'_, '_> {
             ..out
         }
     }
+}
+
+/// [`World::step_ticks`]'s batch over all bodies: `first_non_finite` is `Some` if any body
+/// turned non-finite (which one does not matter: the batch is undone).
+struct Batch<'a, 'f> {
+    lanes: Lanes<'a>,
+    saved: Lanes<'a>,
+    frame: &'f StepFrame<'f>,
+    events: &'a mut [Vec<Event>],
+    carry_valid: bool,
+    ticks: u64,
+    substeps: u32,
+    guard: &'f Guard<'f>,
+}
+
+/// The energy guard inside a batch: due after the ticks `first_tick + k` that are multiples of
+/// `every` (never if `every` is 0).
+struct Guard<'f> {
+    every: u64,
+    first_tick: u64,
+    over_cap: &'f (dyn Fn(&Lanes) -> bool + Sync),
+}
+
+impl SchemeVisitor for Batch<'_, '_> {
+    type Out = KernelOut;
+    fn visit<S: Scheme>(self, scheme: S) -> KernelOut {
+        let Batch {
+            mut lanes,
+            saved,
+            frame,
+            events,
+            carry_valid,
+            ticks,
+            substeps,
+            guard,
+        } = self;
+        let mut extra = 0;
+        if S::CARRIES_FORCE && !carry_valid {
+            extra = fill_carry(&scheme, &mut lanes);
+        }
+        let work = BatchWork {
+            frame,
+            ticks,
+            substeps,
+            guard,
+        };
+        let out = split_batch::<S>(&scheme, lanes, saved, events, &work);
+        KernelOut {
+            evals: out.evals + extra,
+            carried: S::CARRIES_FORCE,
+            ..out
+        }
+    }
+}
+
+/// What every chunk of a batch runs: `ticks` ticks of `substeps` steps each, with the guard.
+struct BatchWork<'f> {
+    frame: &'f StepFrame<'f>,
+    ticks: u64,
+    substeps: u32,
+    guard: &'f Guard<'f>,
+}
+
+/// Splits a batch into `events.len()` chunks like [`split_run`], combining in order.
+fn split_batch<S: Scheme>(
+    scheme: &S,
+    lanes: Lanes,
+    saved: Lanes,
+    events: &mut [Vec<Event>],
+    work: &BatchWork,
+) -> KernelOut {
+    if events.len() <= 1 {
+        return batch_chunk::<S>(scheme, lanes, saved, &mut events[0], work);
+    }
+    let half = events.len() / 2;
+    let mid = lanes.len() * half / events.len();
+    let (left, right) = lanes.split_at(mid);
+    let (saved_left, saved_right) = saved.split_at(mid);
+    let (ev_left, ev_right) = events.split_at_mut(half);
+    let (a, b) = rayon::join(
+        || split_batch::<S>(scheme, left, saved_left, ev_left, work),
+        || split_batch::<S>(scheme, right, saved_right, ev_right, work),
+    );
+    a.then(b)
+}
+
+/// One chunk of a batch: block by block, save the block, then run it every tick of the batch
+/// (each tick `substeps` times) through the same per-body loop as a tick, checking the guard
+/// after the ticks it is due. `first_non_finite` is `Some` if a body turned non-finite or
+/// tripped the guard (the batch is then undone, so which body does not matter).
+fn batch_chunk<S: Scheme>(
+    scheme: &S,
+    mut l: Lanes,
+    mut saved: Lanes,
+    events: &mut Vec<Event>,
+    work: &BatchWork,
+) -> KernelOut {
+    let n = l.len();
+    let guard = work.guard;
+    let mut out = KernelOut::default();
+    let mut ok = true;
+    for start in (0..n).step_by(BATCH_BLOCK) {
+        let end = (start + BATCH_BLOCK).min(n);
+        let mut block = l.sub(start, end);
+        saved.sub(start, end).copy_state(&block);
+        for tick in guard.first_tick..guard.first_tick + work.ticks {
+            for _ in 0..work.substeps {
+                let o = run::<S, false>(scheme, block.sub(0, end - start), work.frame, events);
+                out.evals += o.evals;
+                ok &= o.first_non_finite.is_none();
+            }
+            if guard.every != 0 && tick.is_multiple_of(guard.every) {
+                ok &= !(guard.over_cap)(&block);
+            }
+        }
+    }
+    out.first_non_finite = (!ok).then_some(l.offset);
+    out
 }
 
 fn fill_carry<S: Scheme>(scheme: &S, l: &mut Lanes) -> u64 {

@@ -298,6 +298,8 @@ pub struct World {
     pub(crate) diverged: Option<Divergence>,
     pub(crate) threads: usize,
     pub(crate) chunk_events: Vec<Vec<Event>>,
+    /// The state a batch of ticks started from ([`World::step_ticks`]); grown on first use.
+    pub(crate) batch_backup: crate::step::BatchBackup,
 }
 
 impl World {
@@ -337,6 +339,7 @@ impl World {
             diverged: None,
             threads: 1,
             chunk_events: Vec::new(),
+            batch_backup: Default::default(),
         };
         world.populate();
         world

@@ -182,3 +182,32 @@ fn the_counter_sees_an_allocation_inside_the_loop() {
     COUNTER.with(|c| c.set(None));
     assert!(counter.load(Ordering::SeqCst) > 0);
 }
+
+#[test]
+fn batched_ticks_allocate_nothing_after_the_first_batch() {
+    // `World::step_ticks` saves the state before each batch into a buffer that grows once.
+    let bodies = 2 * PARALLEL_MIN_CHUNK as u32 + 3;
+    let text = format!(
+        "Scene(dt: 0.01, integrator: VelocityVerlet,
+               forces: [Spring(anchor: (0.0, 0.0, 5.0), stiffness: 4.0)],
+               launcher: (position: (0.0, 0.0, 1.0), speed: 10.0, elevation_deg: 60.0, azimuth_deg: 0.0),
+               volley: (count: {bodies}, speed_spread: 2.0, angle_spread_deg: 10.0))"
+    );
+    let scene = scene::parse(&text, "alloc.ron", "alloc").expect("the test scene is valid");
+    let counter: &'static AtomicU64 = Box::leak(Box::new(AtomicU64::new(0)));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .start_handler(move |_| COUNTER.with(|c| c.set(Some(counter))))
+        .build()
+        .expect("a two-thread pool");
+    pool.broadcast(|_| ());
+    let allocations = pool.install(|| {
+        let mut world = World::new(&scene);
+        world.set_threads(2);
+        world.step_ticks(10).expect("the spring is stable");
+        let before = counter.load(Ordering::SeqCst);
+        world.step_ticks(70).expect("the spring is stable");
+        counter.load(Ordering::SeqCst) - before
+    });
+    assert_eq!(allocations, 0);
+}

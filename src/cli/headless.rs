@@ -178,9 +178,9 @@ pub fn run(args: &HeadlessArgs) -> Result<(), Failure> {
     if !args.no_table {
         table.rows(&sim.world).map_err(io)?;
     }
-    let mut source = VirtualClock::Steady(scene.timestep);
     let outcome = match &args.frames {
         Some(dir) => {
+            let mut source = VirtualClock::Steady(scene.timestep);
             let size = args.size.as_deref();
             let mut frames = super::frames::writer(&sim.world, dir, size, args.frame_every)?;
             let mut both = super::frames::WithFrames {
@@ -189,7 +189,11 @@ pub fn run(args: &HeadlessArgs) -> Result<(), Failure> {
             };
             sim.run_until(ticks, &mut source, &mut both)
         }
-        None => sim.run_until(ticks, &mut source, &mut table),
+        None => {
+            // Frames of many ticks: the ticks the table does not print may run as batches.
+            let mut source = sim.unpaced_source(volley::sim_loop::UNPACED_FRAME_TICKS);
+            sim.run_until(ticks, &mut source, &mut table)
+        }
     };
     table.flush().map_err(io)?;
     outcome.map_err(loop_failure)?;

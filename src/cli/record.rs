@@ -4,7 +4,6 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use volley::clock::VirtualClock;
 use volley::hash::hex;
 use volley::replay::{RecordOptions, Recorder};
 use volley::{LoopError, SimLoop, World};
@@ -78,11 +77,8 @@ pub fn run(args: &RecordArgs) -> Result<(), Failure> {
         ..RecordOptions::default()
     };
     let mut recorder = Recorder::start(file, &sim.world, options).map_err(io)?;
-    let outcome = sim.run_until(
-        ticks,
-        &mut VirtualClock::Steady(scene.timestep),
-        &mut recorder,
-    );
+    let mut source = sim.unpaced_source(volley::sim_loop::UNPACED_FRAME_TICKS);
+    let outcome = sim.run_until(ticks, &mut source, &mut recorder);
     if let Err(LoopError::Observer(e)) = outcome {
         return Err(fail(EXIT_ENVIRONMENT, format!("{path}: {e}")));
     }

@@ -337,4 +337,10 @@ impl<W: Write> TickObserver for Recorder<W> {
     fn after_tick(&mut self, world: &World) -> Result<(), ObserverError> {
         self.tick(world).map_err(observer_error)
     }
+
+    /// The next tick due a hash or a keyframe: with `hash_every` above 1 the loop may run the
+    /// ticks between as a batch.
+    fn next_needed_tick(&self, _tick: u64) -> u64 {
+        self.next_hash.min(self.next_keyframe)
+    }
 }
