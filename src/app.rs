@@ -69,6 +69,9 @@ pub struct WindowOptions {
     pub scenes: Vec<(String, PathBuf)>,
     /// Record the first lane from tick 0 to this file (`volley window --record FILE`).
     pub record: Option<PathBuf>,
+    /// Put the window through a resize, a minimise and restore, and a lost surface, a few
+    /// frames apart (`--surface-drill`, for the smoke tests).
+    pub surface_drill: bool,
 }
 
 /// Why the window could not run.
@@ -198,6 +201,8 @@ struct App {
     last_frame: Instant,
     /// (interval, work) of each frame (ms), kept only when the run has a frame limit.
     timings: Vec<(f64, f64)>,
+    /// Steps of `--surface-drill` done.
+    drill_step: u8,
     quit: bool,
     outcome: Result<(), AppError>,
 }
@@ -233,6 +238,7 @@ impl App {
             screenshot: None,
             last_frame: Instant::now(),
             timings: Vec::new(),
+            drill_step: 0,
             quit: false,
             outcome: Ok(()),
             options,

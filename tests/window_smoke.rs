@@ -1,5 +1,6 @@
 //! The window end to end: it opens under a virtual X server, draws, saves its last frame and
-//! exits 0; without any display it exits 4 with one line naming the headless mode.
+//! exits 0, also through a resize, a minimise and a lost surface, and at a HiDPI scale; without
+//! any display it exits 4 with one line naming the headless mode.
 
 mod support;
 
@@ -218,4 +219,71 @@ fn a_window_replay_that_parts_from_its_recording_exits_1_with_the_report() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     let line = format!("error: {file_arg}: the replay parts from the recording at tick 21");
     assert!(stderr.lines().any(|l| l == line), "{stderr}");
+}
+
+/// Runs `volley window seed` under Xvfb with `env` set, closing after 24 frames with a
+/// screenshot; returns the screenshot, or `None` where no window can open here.
+fn drawn_under_xvfb(test: &str, env: &[(&str, &str)], extra: &[&str]) -> Option<Image> {
+    if !has("xvfb-run") {
+        support::unavailable(test, "xvfb-run is not installed (apt-get install xvfb)");
+        return None;
+    }
+    let shot = support::scratch_dir(test).join("window.png");
+    // `timeout`: a window that stopped drawing (say, never woke after the minimise) would
+    // otherwise wait for its frame limit forever.
+    let output = Command::new("timeout")
+        .args(["120", "xvfb-run", "-a", "-s", "-screen 0 1600x1200x24"])
+        .arg(env!("CARGO_BIN_EXE_volley"))
+        .args([
+            "window",
+            "seed",
+            "--exit-after-frames",
+            "24",
+            "--frame-rate",
+            "60",
+        ])
+        .args(["--size", "640x400", "--no-watch", "--screenshot"])
+        .arg(&shot)
+        .args(extra)
+        .envs(env.iter().copied())
+        .output()
+        .expect("timeout and xvfb-run start");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    if output.status.code() == Some(4) {
+        support::unavailable(test, stderr.trim());
+        return None;
+    }
+    assert!(
+        output.status.success(),
+        "exit {:?} (124: timed out): {stderr}",
+        output.status.code()
+    );
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("window: 24 frames"), "{stdout}");
+    Some(Image::load_png(&shot).expect("the last frame was saved"))
+}
+
+#[test]
+fn the_window_draws_on_through_a_resize_a_minimise_and_a_lost_surface() {
+    let test = "the_window_draws_on_through_a_resize_a_minimise_and_a_lost_surface";
+    let Some(image) = drawn_under_xvfb(test, &[], &["--surface-drill"]) else {
+        return;
+    };
+    // 24 frames were presented after the drill's three events (frames 3, 6 and 9), and the last
+    // one has the restored size.
+    assert_eq!((image.width, image.height), (640, 400));
+    assert_ne!(image.pixel(5, 200), image.pixel(630, 5));
+}
+
+#[test]
+fn at_a_hidpi_scale_the_window_draws_at_its_physical_size() {
+    let test = "at_a_hidpi_scale_the_window_draws_at_its_physical_size";
+    // winit's X11 backend takes the scale factor from this variable.
+    let Some(image) = drawn_under_xvfb(test, &[("WINIT_X11_SCALE_FACTOR", "2")], &[]) else {
+        return;
+    };
+    // 640 x 400 logical pixels at scale 2; the panel (egui, in points) is drawn at the same
+    // scale, so its background shows at twice the logical distance from the edge.
+    assert_eq!((image.width, image.height), (1280, 800));
+    assert_ne!(image.pixel(10, 400), image.pixel(1260, 10));
 }

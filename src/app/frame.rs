@@ -33,6 +33,38 @@ impl App {
         }
         self.stats.frames += 1;
         self.after_present(&ui);
+        if self.options.surface_drill {
+            self.drill();
+        }
+    }
+
+    /// `--surface-drill`: what a desktop does to a window, once each, three frames apart: a
+    /// resize; a minimise (a 0 x 0 size, as Windows reports it) with the restore after it; a
+    /// lost surface, rebuilt. The window has to draw on after each.
+    fn drill(&mut self) {
+        let (Some(window), Some(gfx)) = (self.window.clone(), self.gfx.as_mut()) else {
+            return;
+        };
+        if self.stats.frames < 3 * (u64::from(self.drill_step) + 1) {
+            return;
+        }
+        let (w, h) = self.options.size;
+        let request = |gfx: &mut super::WindowGpu, w: u32, h: u32| {
+            // Applied at once on some platforms; on others a `Resized` event follows.
+            if let Some(size) = window.request_inner_size(winit::dpi::LogicalSize::new(w, h)) {
+                gfx.resize(size.width, size.height);
+            }
+        };
+        match self.drill_step {
+            0 => request(gfx, w + 160, h + 100),
+            1 => {
+                gfx.resize(0, 0);
+                request(gfx, w, h);
+            }
+            2 => gfx.rebuild_surface(),
+            _ => return,
+        }
+        self.drill_step += 1;
     }
 
     /// Draws the scene and the panel into `target` (the surface, or a capture of it).

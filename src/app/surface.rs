@@ -123,15 +123,21 @@ impl WindowGpu {
                 None
             }
             C::Lost => {
-                if let Ok(surface) = self.gpu.instance.create_surface(self.window.clone()) {
-                    self.surface = surface;
-                }
-                let s = self.window.inner_size();
-                self.resize(s.width, s.height);
+                self.rebuild_surface();
                 None
             }
             C::Timeout | C::Occluded | C::Validation => None,
         }
+    }
+
+    /// A lost surface: a new one for the same window (the old one is dropped before the new
+    /// one is configured), at the window's current size.
+    pub fn rebuild_surface(&mut self) {
+        if let Ok(surface) = self.gpu.instance.create_surface(self.window.clone()) {
+            self.surface = surface;
+        }
+        let s = self.window.inner_size();
+        self.resize(s.width, s.height);
     }
 
     /// After presenting a suboptimal frame: reconfigure at the window's current size.

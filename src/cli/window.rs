@@ -61,6 +61,10 @@ pub struct DisplayArgs {
     /// Sim seconds per real second at start (0 to 100).
     #[arg(long, default_value_t = 1.0)]
     pub time_scale: f64,
+    /// For tests: resize the window, minimise and restore it, and lose its surface, three
+    /// frames apart, drawing on after each.
+    #[arg(long)]
+    pub surface_drill: bool,
 }
 
 impl Default for DisplayArgs {
@@ -73,6 +77,7 @@ impl Default for DisplayArgs {
             frame_rate: None,
             paused: false,
             time_scale: 1.0,
+            surface_drill: false,
         }
     }
 }
@@ -107,6 +112,7 @@ impl DisplayArgs {
             watch: false,
             scenes: Vec::new(),
             record: None,
+            surface_drill: self.surface_drill,
         })
     }
 }
