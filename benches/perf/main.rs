@@ -7,6 +7,7 @@
 //! - `step-gravity`, `step-drag`: [`volley::World::step`] for every integrator at N = 1, 1e3,
 //!   1e5 and 1e6 bodies on the bench scenes (`assets/scenes/bench/`: no contacts, guard off);
 //! - `parallel`: the same step at N = 1e6 on one and two threads;
+//! - `batched`: 64 ticks in one `World::step_ticks` at N = 1e6, on one and two threads;
 //! - `seed`: the seed scene through [`volley::SimLoop`], per tick;
 //! - `hash`: the canonical state hash;
 //! - `record`: a tick with and without a [`volley::replay::Recorder`], in memory and into a
@@ -78,6 +79,7 @@ fn main() {
     reference::bench(&mut c);
     step::bench(&mut c);
     step::bench_parallel(&mut c);
+    step::bench_batched(&mut c);
     tick::bench_seed(&mut c);
     tick::bench_hash(&mut c);
     record::bench(&mut c);

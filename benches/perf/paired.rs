@@ -14,7 +14,7 @@ use volley::Integrator;
 
 use crate::reference::{REFERENCE_DRAM_N, Soa, TRIAD_LEN};
 use crate::scenes::BenchScene;
-use crate::step::{PARALLEL_CASES, PARALLEL_N, parallel_name};
+use crate::step::{BATCH_TICKS, PARALLEL_CASES, PARALLEL_N, parallel_name};
 
 /// Rounds per comparison (odd, so the median is one of them).
 pub const ROUNDS: usize = 101;
@@ -91,11 +91,26 @@ pub fn threads_name(case: &str) -> String {
     format!("threads/{case}")
 }
 
+/// Name of the one-against-two-threads pair of a parallel case, batched.
+pub fn batched_threads_name(case: &str) -> String {
+    format!("batched-threads/{case}")
+}
+
+/// Name of the pair of the reference (per tick) against Volley's batched step, one thread,
+/// explicit Euler on gravity at 1e6 bodies, per body-step.
+pub const REFERENCE_BATCHED: &str = "reference-vs-volley-batched/1000000";
+
 /// Name of the triad's one-against-two-threads pair.
 pub const TRIAD_THREADS: &str = "threads/triad";
 
 fn step(world: &mut volley::World) {
     world.step().expect("the bench scenes do not diverge");
+}
+
+fn step_batch(world: &mut volley::World) {
+    world
+        .step_ticks(BATCH_TICKS)
+        .expect("the bench scenes do not diverge");
 }
 
 /// Every paired comparison the report uses.
@@ -127,6 +142,35 @@ pub fn all() -> Vec<Pair> {
         let mut two = scene.world(PARALLEL_N, integrator, 2);
         let name = threads_name(&parallel_name(scene, integrator));
         out.push(compare(&name, || step(&mut one), || step(&mut two)));
+    }
+    // The closed form under drag is left out: a batch of it takes over a second, and it is
+    // bound by arithmetic either way (criterion's rows show it).
+    for (scene, integrator) in PARALLEL_CASES {
+        if integrator == Integrator::Exact {
+            continue;
+        }
+        let mut one = scene.world(PARALLEL_N, integrator, 1);
+        let mut two = scene.world(PARALLEL_N, integrator, 2);
+        let name = batched_threads_name(&parallel_name(scene, integrator));
+        out.push(compare(
+            &name,
+            || step_batch(&mut one),
+            || step_batch(&mut two),
+        ));
+    }
+    {
+        let mut soa = Soa::new(PARALLEL_N as usize);
+        let mut world = BenchScene::Gravity.world(PARALLEL_N, Integrator::ExplicitEuler, 1);
+        let (h, g) = (black_box(0.016_666_667), black_box([0.0, 0.0, -9.81]));
+        let mut pair = compare(
+            REFERENCE_BATCHED,
+            || soa.step(h, g),
+            || step_batch(&mut world),
+        );
+        // Per body-step: the Volley side runs BATCH_TICKS ticks per call.
+        pair.ratio *= BATCH_TICKS as f64;
+        pair.median *= BATCH_TICKS as f64;
+        out.push(pair);
     }
     let mut a = vec![0.5; TRIAD_LEN];
     let (b, c) = (vec![1.0; TRIAD_LEN], vec![2.0; TRIAD_LEN]);

@@ -237,11 +237,14 @@ pub fn table(md: &mut String, r: &Results, e2e: Option<&Result<E2e, String>>) ->
     let _ = writeln!(md, "\n### Recording overhead\n");
     let _ = writeln!(
         md,
-        "`SimLoop::frame` per tick, one tick per frame as `volley record` runs, without an \
+        "`SimLoop::frame` per tick, one tick per frame (so no tick is batched: the cost of \
+         stepping and recording tick by tick), without an \
          observer (off) and with a `Recorder`: hashing every tick into `io::sink()` (no I/O), \
          and with `volley record`'s options into a real file, hashing every tick, every 10th and \
          every 100th (keyframes every 600 ticks and the 50 ms flush in all three). The last \
-         column is the state hash alone. The issue's budget: recording every tick \
+         column is the state hash alone. `volley record` itself feeds the loop frames of 64 \
+         ticks, so with `--hash-every K` a world without contacts runs the unhashed ticks as \
+         batches, faster than this table's 'off'. The issue's budget: recording every tick \
          costs at most 5 % over not recording.\n"
     );
     let heads: Vec<String> = SIDES.iter().map(|s| s.heading()).collect();

@@ -44,6 +44,34 @@ pub fn parallel_name(scene: BenchScene, integrator: Integrator) -> String {
     format!("{}-{}", scene.name(), integrator.name())
 }
 
+/// Ticks per iteration of the batched benchmark: one batch of [`volley::step::BATCH_MAX_TICKS`].
+pub const BATCH_TICKS: u64 = volley::step::BATCH_MAX_TICKS;
+
+/// Benchmarks `batched/SCENE-INTEGRATOR/THREADS`: [`BATCH_TICKS`] ticks in one
+/// `World::step_ticks` at [`PARALLEL_N`] bodies, in body-steps (what `volley headless` and
+/// `volley record` run between the ticks they observe).
+pub fn bench_batched(c: &mut Criterion) {
+    let mut group = c.benchmark_group("batched");
+    sized(&mut group, PARALLEL_N * BATCH_TICKS);
+    group.throughput(Throughput::Elements(PARALLEL_N * BATCH_TICKS));
+    for (scene, integrator) in PARALLEL_CASES {
+        for threads in [1usize, 2] {
+            let mut world = None;
+            let id = BenchmarkId::new(parallel_name(scene, integrator), threads);
+            group.bench_function(id, |b| {
+                let world =
+                    world.get_or_insert_with(|| scene.world(PARALLEL_N, integrator, threads));
+                b.iter(|| {
+                    world
+                        .step_ticks(BATCH_TICKS)
+                        .expect("the bench scenes do not diverge")
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
 /// Benchmarks `parallel/SCENE-INTEGRATOR/THREADS` at [`PARALLEL_N`] bodies.
 pub fn bench_parallel(c: &mut Criterion) {
     let mut group = c.benchmark_group("parallel");
