@@ -310,3 +310,66 @@ fn a_recording_hashing_every_tenth_tick_is_the_same_file_batched_or_not() {
     assert!(bytes.len() > 1000);
     assert_eq!(record(true), bytes);
 }
+
+/// `volley ARGS`' stdout; the run must succeed.
+fn volley_stdout(args: &[&str]) -> String {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_volley"))
+        .args(args)
+        .output()
+        .expect("volley runs");
+    assert!(
+        out.status.success(),
+        "volley {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).expect("utf-8 output")
+}
+
+#[test]
+fn headless_prints_the_same_rows_and_summary_whether_ticks_are_batched_or_not() {
+    // `--every 1` observes every tick (no batch); `--every 10` and `--no-table` let the loop
+    // batch the ticks between rows (1000 bodies, no contacts).
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "headless",
+            "bench/drag",
+            "--ticks",
+            "150",
+            "--format",
+            "csv",
+            "--integrator",
+            "verlet",
+        ];
+        args.extend_from_slice(extra);
+        volley_stdout(&args)
+    };
+    let every_tick = run(&["--every", "1"]);
+    let summary = |text: &str| {
+        text.lines()
+            .find(|l| l.contains("summary"))
+            .expect("a summary line")
+            .to_string()
+    };
+    // CSV rows: tick first; keep the header, the rows at multiples of 10 and the summary.
+    let tenth: Vec<&str> = every_tick
+        .lines()
+        .filter(|l| match l.split(',').next().map(str::parse::<u64>) {
+            Some(Ok(tick)) => tick.is_multiple_of(10),
+            _ => true,
+        })
+        .collect();
+    let ticks = |text: &str| {
+        let mut t: Vec<u64> = text
+            .lines()
+            .filter_map(|l| l.split(',').next()?.parse().ok())
+            .collect();
+        t.dedup();
+        t
+    };
+    assert_eq!(ticks(&every_tick), (0..=150).collect::<Vec<_>>());
+    let batched = run(&["--every", "10"]);
+    assert_eq!(ticks(&batched), (0..=150).step_by(10).collect::<Vec<_>>());
+    assert_eq!(batched.lines().collect::<Vec<_>>(), tenth);
+    let no_table = run(&["--no-table"]);
+    assert_eq!(summary(&no_table), summary(&every_tick));
+}
