@@ -96,8 +96,9 @@ impl From<ObserverError> for LoopError {
 }
 
 /// Ticks per frame of [`SimLoop::unpaced_source`] as `volley headless` and `volley record`
-/// use it: as many as [`crate::step::BATCH_MAX_TICKS`].
-pub const UNPACED_FRAME_TICKS: u32 = crate::step::BATCH_MAX_TICKS as u32;
+/// use it: one whole batch ([`crate::step::BATCH_MAX_TICKS`]) and the frame's last tick, which
+/// always runs alone.
+pub const UNPACED_FRAME_TICKS: u32 = crate::step::BATCH_MAX_TICKS as u32 + 1;
 
 /// The world, its clock, and the commands waiting for their tick.
 #[derive(Debug)]
@@ -164,18 +165,16 @@ impl SimLoop {
         while ran < ticks.steps {
             let before = self.world.tick();
             let result = self.run_ticks(ticks.steps - ran, observer);
+            // Counted from the world: a tick stepped before an error (a divergence, a failed
+            // observer) counts, a tick not stepped (a failed command, a world already stopped)
+            // does not.
+            ran += (self.world.tick() - before) as u32;
             if let Err(e) = result {
                 // The ticks this frame granted but did not run go back into the accumulator, so
                 // the clock's tick count stays the world's and no time is silently lost.
-                let stepped = match e {
-                    LoopError::Command { .. } => self.world.tick() - before,
-                    _ => (self.world.tick() - before).max(1),
-                };
-                ran += stepped as u32;
                 self.clock.return_ticks(ticks.steps - ran);
                 return Err(e);
             }
-            ran += (self.world.tick() - before) as u32;
         }
         Ok(ticks)
     }
@@ -237,7 +236,8 @@ impl SimLoop {
     /// A frame source for a run without a display (headless, record): each frame grants up to
     /// `ticks` ticks (the clock's clamp and cap are raised to allow it), so the loop can batch
     /// the ticks its observer does not need. The result does not depend on it: any frame-delta
-    /// sequence gives the same bits.
+    /// sequence gives the same bits. The raised clamp and cap stay: this is for loops that
+    /// never see a real clock (a window's loop keeps the defaults against a spiral of death).
     pub fn unpaced_source(&mut self, ticks: u32) -> VirtualClock {
         let step = self.clock.timestep();
         let (delta, ticks) = match step.checked_mul(ticks) {

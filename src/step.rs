@@ -132,6 +132,9 @@ impl World {
     /// cause `step` names.
     /// With contacts the ticks run one by one.
     pub fn step_ticks(&mut self, n: u64) -> Result<(), Divergence> {
+        if n == 0 {
+            return Ok(());
+        }
         if let Some(d) = self.diverged {
             return Err(d);
         }

@@ -105,19 +105,59 @@ fn every_integrator_batches_to_the_same_bits_as_stepping_tick_by_tick() {
 #[test]
 fn substeps_and_the_guard_batch_to_the_same_bits() {
     // Verlet carries its force across substeps and batches; the guard runs every 7 ticks
-    // inside a batch of 64 without tripping.
-    for integrator in [
-        Integrator::VelocityVerlet,
-        Integrator::Rk4,
-        Integrator::SemiImplicitEuler,
+    // inside a batch of 64 without tripping, on the general force model (a spring) and on the
+    // constant-field one (gravity alone).
+    for forces in [
+        "Spring(anchor: (0.0, 0.0, 5.0), stiffness: 4.0)",
+        "Gravity((0.0, 0.0, -9.81))",
     ] {
-        let mut s = volley("Spring(anchor: (0.0, 0.0, 5.0), stiffness: 4.0)", BODIES, 7);
-        s.set_integrator(integrator).expect("springs allow it");
-        s.set_substeps(3).expect("3 substeps are valid");
-        let expected = tick_by_tick(&s, 1, 150);
-        assert_eq!(expected.result, Ok(()), "{integrator}");
-        assert_eq!(batched(&s, 1, 150), expected, "{integrator}");
+        for integrator in [
+            Integrator::VelocityVerlet,
+            Integrator::Rk4,
+            Integrator::SemiImplicitEuler,
+        ] {
+            let mut s = volley(forces, BODIES, 7);
+            s.set_integrator(integrator).expect("both allow it");
+            s.set_substeps(3).expect("3 substeps are valid");
+            let expected = tick_by_tick(&s, 1, 150);
+            assert_eq!(expected.result, Ok(()), "{integrator}, {forces}");
+            assert_eq!(batched(&s, 1, 150), expected, "{integrator}, {forces}");
+        }
     }
+}
+
+#[test]
+fn no_ticks_is_nothing_even_for_a_stopped_world() {
+    let mut s = unstable(3);
+    s.timestep = std::time::Duration::from_millis(50);
+    let mut world = World::new(&s);
+    let d = world.step_ticks(500).expect_err("the guard trips");
+    assert_eq!(world.step_ticks(0), Ok(()));
+    assert_eq!(world.step_ticks(1), Err(d));
+}
+
+#[test]
+fn a_divergence_inside_a_loop_batch_leaves_the_clock_on_the_worlds_tick() {
+    let mut s = unstable(3);
+    s.timestep = std::time::Duration::from_millis(50);
+    let expected = tick_by_tick(&s, 1, 500);
+    let Err(d) = expected.result else {
+        panic!("the guard must trip")
+    };
+    let mut sim = SimLoop::new(World::new(&s));
+    let mut source = sim.unpaced_source(1000);
+    let err = sim
+        .run_until(500, &mut source, &mut ())
+        .expect_err("the run diverges");
+    assert_eq!(err, volley::LoopError::Diverged(d));
+    assert_eq!(outcome(&sim.world, Err(d)), expected);
+    assert_eq!(sim.clock.tick(), d.tick, "the unrun ticks went back");
+    // A stopped world's next frame runs no tick, and the clock does not count one.
+    let again = sim
+        .frame(s.timestep, &mut ())
+        .expect_err("it stays stopped");
+    assert_eq!(again, volley::LoopError::Diverged(d));
+    assert_eq!(sim.clock.tick(), d.tick);
 }
 
 #[test]
@@ -234,6 +274,15 @@ fn the_loop_batches_between_commands_and_needed_ticks_without_changing_them() {
             },
             Stamped {
                 tick: 102,
+                command: Command::Fire,
+            },
+            // Verlet carries a force, which a new body makes stale: refilled after the fire.
+            Stamped {
+                tick: 150,
+                command: Command::SetIntegrator(Integrator::VelocityVerlet),
+            },
+            Stamped {
+                tick: 201,
                 command: Command::Fire,
             },
         ]
