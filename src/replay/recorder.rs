@@ -38,7 +38,9 @@ pub enum FlushPolicy {
     /// After a tick, once at least this much wall time passed since the last flush. The clock is
     /// read every tick while ticks take a millisecond or more (real time), and every 2, 4, ...
     /// up to 1024 ticks while they are faster (a headless run), so the extra delay past the
-    /// interval stays within a few milliseconds of ticks.
+    /// interval stays within a few milliseconds of ticks. ("Ticks" here are the ticks the
+    /// recorder sees: with `hash_every` above 1 the loop may batch the ones between, and a batch
+    /// counts as one.)
     Interval(Duration),
     /// Only when the buffer fills and at [`Recorder::finish`] (benchmarks, in-memory writers).
     /// Runs of hashes are then closed only by keyframes, commands and their size, so the file's
