@@ -271,23 +271,7 @@ fn the_default_camera_keeps_the_whole_scene_in_view() {
         let camera = OrbitCamera::framing(&bounds, f64::from(w) / f64::from(h));
         let vp = Viewport::full(w, h);
         for k in 0..8 {
-            let corner = DVec3::new(
-                if k & 1 == 0 {
-                    bounds.min.x
-                } else {
-                    bounds.max.x
-                },
-                if k & 2 == 0 {
-                    bounds.min.y
-                } else {
-                    bounds.max.y
-                },
-                if k & 4 == 0 {
-                    bounds.min.z
-                } else {
-                    bounds.max.z
-                },
-            );
+            let corner = bounds.corner(k);
             let p = camera.project(corner, &vp).expect("in front of the eye");
             // The framing leaves a 10 % margin; a pixel of slack for rounding.
             assert!(

@@ -51,32 +51,26 @@ pub const BATCH_TICKS: u64 = volley::step::BATCH_MAX_TICKS;
 /// `World::step_ticks` at [`PARALLEL_N`] bodies, in body-steps (what `volley headless` and
 /// `volley record` run between the ticks they observe).
 pub fn bench_batched(c: &mut Criterion) {
-    let mut group = c.benchmark_group("batched");
-    sized(&mut group, PARALLEL_N * BATCH_TICKS);
-    group.throughput(Throughput::Elements(PARALLEL_N * BATCH_TICKS));
-    for (scene, integrator) in PARALLEL_CASES {
-        for threads in [1usize, 2] {
-            let mut world = None;
-            let id = BenchmarkId::new(parallel_name(scene, integrator), threads);
-            group.bench_function(id, |b| {
-                let world =
-                    world.get_or_insert_with(|| scene.world(PARALLEL_N, integrator, threads));
-                b.iter(|| {
-                    world
-                        .step_ticks(BATCH_TICKS)
-                        .expect("the bench scenes do not diverge")
-                })
-            });
-        }
-    }
-    group.finish();
+    bench_threads(c, "batched", BATCH_TICKS, |world| {
+        world
+            .step_ticks(BATCH_TICKS)
+            .expect("the bench scenes do not diverge")
+    });
 }
 
 /// Benchmarks `parallel/SCENE-INTEGRATOR/THREADS` at [`PARALLEL_N`] bodies.
 pub fn bench_parallel(c: &mut Criterion) {
-    let mut group = c.benchmark_group("parallel");
-    sized(&mut group, PARALLEL_N);
-    group.throughput(Throughput::Elements(PARALLEL_N));
+    bench_threads(c, "parallel", 1, |world| {
+        world.step().expect("the bench scenes do not diverge")
+    });
+}
+
+/// Every parallel case on one and two threads at [`PARALLEL_N`] bodies, `run` advancing the
+/// world by `ticks` ticks per iteration.
+fn bench_threads(c: &mut Criterion, name: &str, ticks: u64, run: fn(&mut volley::World)) {
+    let mut group = c.benchmark_group(name);
+    sized(&mut group, PARALLEL_N * ticks);
+    group.throughput(Throughput::Elements(PARALLEL_N * ticks));
     for (scene, integrator) in PARALLEL_CASES {
         for threads in [1usize, 2] {
             let mut world = None;
@@ -84,7 +78,7 @@ pub fn bench_parallel(c: &mut Criterion) {
             group.bench_function(id, |b| {
                 let world =
                     world.get_or_insert_with(|| scene.world(PARALLEL_N, integrator, threads));
-                b.iter(|| world.step().expect("the bench scenes do not diverge"))
+                b.iter(|| run(world))
             });
         }
     }

@@ -23,6 +23,16 @@ pub struct SceneBounds {
 }
 
 impl SceneBounds {
+    /// Corner `k` of the box (0 to 7): bit 0 picks the x bound (0: min), bit 1 y, bit 2 z.
+    pub fn corner(&self, k: u8) -> DVec3 {
+        let pick = |bit: u8, lo: f64, hi: f64| if k & bit == 0 { lo } else { hi };
+        DVec3::new(
+            pick(1, self.min.x, self.max.x),
+            pick(2, self.min.y, self.max.y),
+            pick(4, self.min.z, self.max.z),
+        )
+    }
+
     /// A box holding only `p`.
     pub fn point(p: DVec3) -> SceneBounds {
         SceneBounds { min: p, max: p }

@@ -169,23 +169,7 @@ impl OrbitCamera {
         // and d >= q.back + |q.up| / tan_v.
         let mut distance: f64 = 1e-3;
         for k in 0..8 {
-            let corner = DVec3::new(
-                if k & 1 == 0 {
-                    bounds.min.x
-                } else {
-                    bounds.max.x
-                },
-                if k & 2 == 0 {
-                    bounds.min.y
-                } else {
-                    bounds.max.y
-                },
-                if k & 4 == 0 {
-                    bounds.min.z
-                } else {
-                    bounds.max.z
-                },
-            );
+            let corner = bounds.corner(k);
             let q = corner - camera.target;
             let along = q.dot(back);
             distance = distance
