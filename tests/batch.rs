@@ -422,3 +422,13 @@ fn headless_prints_the_same_rows_and_summary_whether_ticks_are_batched_or_not() 
     let no_table = run(&["--no-table"]);
     assert_eq!(summary(&no_table), summary(&every_tick));
 }
+
+#[test]
+fn an_empty_world_batches_its_ticks_too() {
+    let s = scene(
+        "Scene(dt: 0.01, integrator: VelocityVerlet, forces: [Gravity((0.0, 0.0, -9.81))], bodies: [])",
+    );
+    let expected = tick_by_tick(&s, 1, 100);
+    assert_eq!(expected.tick, 100);
+    assert_eq!(batched(&s, 1, 100), expected);
+}
