@@ -62,11 +62,8 @@ static ALLOCATOR: Counting = Counting;
 const WARM_UP_TICKS: u64 = 45;
 const MEASURED_TICKS: u64 = 60;
 
-/// Allocations made while `scene` runs ticks `WARM_UP_TICKS..WARM_UP_TICKS + MEASURED_TICKS`
-/// on `threads` threads, one tick per frame; with `record`, a recorder started at tick 0 hashes
-/// every tick and keeps a keyframe every 100 ticks (into `io::sink()`, no wall-clock flushes):
-/// its run of hashes grows past anything the warm-up saw, to the keyframe at tick 100.
-fn allocations_after_warm_up(scene: &Scene, threads: usize, record: bool) -> u64 {
+/// A two-thread pool whose workers count their allocations into the returned counter.
+fn counting_pool() -> (&'static AtomicU64, rayon::ThreadPool) {
     let counter: &'static AtomicU64 = Box::leak(Box::new(AtomicU64::new(0)));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
@@ -75,6 +72,15 @@ fn allocations_after_warm_up(scene: &Scene, threads: usize, record: bool) -> u64
         .expect("a two-thread pool");
     // Both workers have started (and opted in) once each has run a broadcast job.
     pool.broadcast(|_| ());
+    (counter, pool)
+}
+
+/// Allocations made while `scene` runs ticks `WARM_UP_TICKS..WARM_UP_TICKS + MEASURED_TICKS`
+/// on `threads` threads, one tick per frame; with `record`, a recorder started at tick 0 hashes
+/// every tick and keeps a keyframe every 100 ticks (into `io::sink()`, no wall-clock flushes):
+/// its run of hashes grows past anything the warm-up saw, to the keyframe at tick 100.
+fn allocations_after_warm_up(scene: &Scene, threads: usize, record: bool) -> u64 {
+    let (counter, pool) = counting_pool();
     pool.install(|| {
         let mut world = World::new(scene);
         world.set_threads(threads);
@@ -194,13 +200,7 @@ fn batched_ticks_allocate_nothing_after_the_first_batch() {
                volley: (count: {bodies}, speed_spread: 2.0, angle_spread_deg: 10.0))"
     );
     let scene = scene::parse(&text, "alloc.ron", "alloc").expect("the test scene is valid");
-    let counter: &'static AtomicU64 = Box::leak(Box::new(AtomicU64::new(0)));
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .start_handler(move |_| COUNTER.with(|c| c.set(Some(counter))))
-        .build()
-        .expect("a two-thread pool");
-    pool.broadcast(|_| ());
+    let (counter, pool) = counting_pool();
     let allocations = pool.install(|| {
         let mut world = World::new(&scene);
         world.set_threads(2);

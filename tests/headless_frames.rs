@@ -82,8 +82,7 @@ fn without_an_adapter_frames_exit_4_with_one_line_naming_the_way_without_a_gpu()
         .unwrap();
     assert_eq!(output.status.code(), Some(4));
     let stderr = String::from_utf8_lossy(&output.stderr);
-    let ours: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-    assert_eq!(ours.len(), 1, "{stderr}");
-    assert!(ours[0].contains("no GPU adapter"), "{stderr}");
-    assert!(ours[0].contains("run without --frames"), "{stderr}");
+    let ours = support::only_line(&stderr, "error:");
+    assert!(ours.contains("no GPU adapter"), "{stderr}");
+    assert!(ours.contains("run without --frames"), "{stderr}");
 }

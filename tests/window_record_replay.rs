@@ -409,13 +409,9 @@ fn without_a_display_volley_replay_prints_the_table_after_one_warning() {
     let (windowed, headless) = (run(&[]), run(&["--headless"]));
     assert_eq!(windowed.status.code(), Some(0));
     let stderr = String::from_utf8_lossy(&windowed.stderr);
-    let ours: Vec<&str> = stderr
-        .lines()
-        .filter(|l| l.starts_with("warning:"))
-        .collect();
-    assert_eq!(ours.len(), 1, "{stderr}");
+    let ours = support::only_line(&stderr, "warning:");
     assert!(
-        ours[0].contains("printing the replay's table instead"),
+        ours.contains("printing the replay's table instead"),
         "{stderr}"
     );
     assert!(headless.stderr.is_empty());

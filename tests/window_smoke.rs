@@ -22,36 +22,10 @@ fn has(program: &str) -> bool {
 #[test]
 fn the_window_opens_draws_frames_and_exits_0_under_xvfb() {
     let test = "the_window_opens_draws_frames_and_exits_0_under_xvfb";
-    if !has("xvfb-run") {
-        return support::unavailable(test, "xvfb-run is not installed (apt-get install xvfb)");
-    }
-    let shot = support::scratch_dir("smoke").join("window.png");
     // A steady virtual 60 Hz clock: 12 frames are 0.2 s of sim time, one tick of the seed.
-    let output = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1024x768x24"])
-        .arg(env!("CARGO_BIN_EXE_volley"))
-        .args([
-            "window",
-            "seed",
-            "--exit-after-frames",
-            "12",
-            "--frame-rate",
-            "60",
-        ])
-        .args(["--size", "640x400", "--no-watch", "--screenshot"])
-        .arg(&shot)
-        .output()
-        .expect("xvfb-run starts");
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    if output.status.code() == Some(4) {
-        return support::unavailable(test, stderr.trim());
-    }
-    assert!(
-        output.status.success(),
-        "exit {:?}: {stderr}",
-        output.status.code()
-    );
-    let image = Image::load_png(&shot).expect("the last frame was saved");
+    let Some((image, _)) = drawn_under_xvfb(test, 12, &[], &[]) else {
+        return;
+    };
     // Xvfb reports a scale factor of 1: the frame is the window's logical size.
     assert_eq!((image.width, image.height), (640, 400));
     // The panel is drawn into the same frame: its background differs from the 3D view's.
@@ -69,12 +43,8 @@ fn without_a_display_the_window_exits_4_naming_the_headless_mode() {
         .unwrap();
     assert_eq!(output.status.code(), Some(4));
     let stderr = String::from_utf8_lossy(&output.stderr);
-    let ours: Vec<&str> = stderr
-        .lines()
-        .filter(|l| l.starts_with("error: no"))
-        .collect();
-    assert_eq!(ours.len(), 1, "{stderr}");
-    assert!(ours[0].contains("volley headless"), "{stderr}");
+    let ours = support::only_line(&stderr, "error: no");
+    assert!(ours.contains("volley headless"), "{stderr}");
 }
 
 #[test]
@@ -93,30 +63,66 @@ fn without_an_adapter_the_window_exits_4_naming_the_headless_mode() {
         .unwrap();
     assert_eq!(output.status.code(), Some(4));
     let stderr = String::from_utf8_lossy(&output.stderr);
-    let ours: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-    assert_eq!(ours.len(), 1, "{stderr}");
-    assert!(ours[0].contains("volley headless"), "{stderr}");
+    let ours = support::only_line(&stderr, "error:");
+    assert!(ours.contains("volley headless"), "{stderr}");
 }
 
-/// Runs `volley ARGS` under a virtual X server; `None` (after reporting why) where no window
-/// can open here.
-fn under_xvfb(test: &str, args: &[&str]) -> Option<std::process::Output> {
+/// Runs `volley ARGS --size 640x400 --frame-rate 60` under a virtual X server with `env`
+/// set; `None` (after reporting why) where no window can open here. `timeout`: a window that
+/// stopped drawing (say, never woke after a minimise) would otherwise wait for its frame limit
+/// forever; it exits 124 instead.
+fn under_xvfb_with(
+    test: &str,
+    env: &[(&str, &str)],
+    args: &[&str],
+) -> Option<std::process::Output> {
     if !has("xvfb-run") {
         support::unavailable(test, "xvfb-run is not installed (apt-get install xvfb)");
         return None;
     }
-    let output = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1024x768x24"])
+    let output = Command::new("timeout")
+        .args(["120", "xvfb-run", "-a", "-s", "-screen 0 1600x1200x24"])
         .arg(env!("CARGO_BIN_EXE_volley"))
         .args(args)
         .args(["--size", "640x400", "--frame-rate", "60"])
+        .envs(env.iter().copied())
         .output()
-        .expect("xvfb-run starts");
+        .expect("timeout and xvfb-run start");
     if output.status.code() == Some(4) {
         support::unavailable(test, String::from_utf8_lossy(&output.stderr).trim());
         return None;
     }
     Some(output)
+}
+
+/// [`under_xvfb_with`] without extra environment.
+fn under_xvfb(test: &str, args: &[&str]) -> Option<std::process::Output> {
+    under_xvfb_with(test, &[], args)
+}
+
+/// `volley window seed` under Xvfb, closing after `frames` frames with a screenshot; it must
+/// exit 0. Returns the screenshot and stdout.
+fn drawn_under_xvfb(
+    test: &str,
+    frames: u32,
+    env: &[(&str, &str)],
+    extra: &[&str],
+) -> Option<(Image, String)> {
+    let shot = support::scratch_dir(test).join("window.png");
+    let frames = frames.to_string();
+    let shot_arg = shot.to_str().expect("a UTF-8 temp path");
+    let mut args = vec!["window", "seed", "--exit-after-frames", &frames];
+    args.extend(["--no-watch", "--screenshot", shot_arg]);
+    args.extend_from_slice(extra);
+    let output = under_xvfb_with(test, env, &args)?;
+    assert!(
+        output.status.success(),
+        "exit {:?} (124: timed out): {}",
+        output.status.code(),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let image = Image::load_png(&shot).expect("the last frame was saved");
+    Some((image, String::from_utf8_lossy(&output.stdout).into_owned()))
 }
 
 #[test]
@@ -221,54 +227,13 @@ fn a_window_replay_that_parts_from_its_recording_exits_1_with_the_report() {
     assert!(stderr.lines().any(|l| l == line), "{stderr}");
 }
 
-/// Runs `volley window seed` under Xvfb with `env` set, closing after 24 frames with a
-/// screenshot; returns the screenshot, or `None` where no window can open here.
-fn drawn_under_xvfb(test: &str, env: &[(&str, &str)], extra: &[&str]) -> Option<Image> {
-    if !has("xvfb-run") {
-        support::unavailable(test, "xvfb-run is not installed (apt-get install xvfb)");
-        return None;
-    }
-    let shot = support::scratch_dir(test).join("window.png");
-    // `timeout`: a window that stopped drawing (say, never woke after the minimise) would
-    // otherwise wait for its frame limit forever.
-    let output = Command::new("timeout")
-        .args(["120", "xvfb-run", "-a", "-s", "-screen 0 1600x1200x24"])
-        .arg(env!("CARGO_BIN_EXE_volley"))
-        .args([
-            "window",
-            "seed",
-            "--exit-after-frames",
-            "24",
-            "--frame-rate",
-            "60",
-        ])
-        .args(["--size", "640x400", "--no-watch", "--screenshot"])
-        .arg(&shot)
-        .args(extra)
-        .envs(env.iter().copied())
-        .output()
-        .expect("timeout and xvfb-run start");
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    if output.status.code() == Some(4) {
-        support::unavailable(test, stderr.trim());
-        return None;
-    }
-    assert!(
-        output.status.success(),
-        "exit {:?} (124: timed out): {stderr}",
-        output.status.code()
-    );
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(stdout.contains("window: 24 frames"), "{stdout}");
-    Some(Image::load_png(&shot).expect("the last frame was saved"))
-}
-
 #[test]
 fn the_window_draws_on_through_a_resize_a_minimise_and_a_lost_surface() {
     let test = "the_window_draws_on_through_a_resize_a_minimise_and_a_lost_surface";
-    let Some(image) = drawn_under_xvfb(test, &[], &["--surface-drill"]) else {
+    let Some((image, stdout)) = drawn_under_xvfb(test, 24, &[], &["--surface-drill"]) else {
         return;
     };
+    assert!(stdout.contains("window: 24 frames"), "{stdout}");
     // 24 frames were presented after the drill's three events (frames 3, 6 and 9), and the last
     // one has the restored size.
     assert_eq!((image.width, image.height), (640, 400));
@@ -279,9 +244,11 @@ fn the_window_draws_on_through_a_resize_a_minimise_and_a_lost_surface() {
 fn at_a_hidpi_scale_the_window_draws_at_its_physical_size() {
     let test = "at_a_hidpi_scale_the_window_draws_at_its_physical_size";
     // winit's X11 backend takes the scale factor from this variable.
-    let Some(image) = drawn_under_xvfb(test, &[("WINIT_X11_SCALE_FACTOR", "2")], &[]) else {
+    let Some((image, stdout)) = drawn_under_xvfb(test, 24, &[("WINIT_X11_SCALE_FACTOR", "2")], &[])
+    else {
         return;
     };
+    assert!(stdout.contains("window: 24 frames"), "{stdout}");
     // 640 x 400 logical pixels at scale 2; the panel (egui, in points) is drawn at the same
     // scale, so its background shows at twice the logical distance from the edge.
     assert_eq!((image.width, image.height), (1280, 800));

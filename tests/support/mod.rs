@@ -43,3 +43,11 @@ pub fn scratch_dir(test: &str) -> PathBuf {
 pub fn crate_path(rel: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)
 }
+
+/// The one line of `stderr` that starts with `prefix` (the program's own message among the
+/// drivers' chatter); fails unless there is exactly one.
+pub fn only_line<'a>(stderr: &'a str, prefix: &str) -> &'a str {
+    let ours: Vec<&str> = stderr.lines().filter(|l| l.starts_with(prefix)).collect();
+    assert_eq!(ours.len(), 1, "{stderr}");
+    ours[0]
+}
