@@ -36,6 +36,16 @@ pub trait TickObserver {
     }
 }
 
+/// The first multiple of `every` (at least 1) after `tick`, for [`TickObserver::next_needed_tick`]
+/// of observers that look every so many ticks; no division when `every` is 1.
+pub fn next_multiple(tick: u64, every: u64) -> u64 {
+    if every == 1 {
+        tick.saturating_add(1)
+    } else {
+        (tick / every).saturating_add(1).saturating_mul(every)
+    }
+}
+
 /// An observer that does nothing (and needs no tick).
 impl TickObserver for () {
     fn next_needed_tick(&self, _tick: u64) -> u64 {
@@ -185,29 +195,36 @@ impl SimLoop {
     /// contacts.
     fn run_ticks(&mut self, left: u32, observer: &mut impl TickObserver) -> Result<(), LoopError> {
         self.apply_due(observer)?;
-        let tick = self.world.tick();
-        let mut batch = u64::from(left - 1);
-        if let Some(next) = self.queue.front() {
-            batch = batch.min(next.tick.saturating_sub(tick));
-        }
-        batch = batch.min(observer.next_needed_tick(tick).saturating_sub(tick));
-        if batch >= 2 && self.world.contacts().is_empty() {
-            if let Err(d) = self.world.step_ticks(batch) {
-                observer.on_divergence(&self.world, &d);
-                return Err(LoopError::Diverged(d));
+        let batch = self.batch_len(left, observer);
+        let stepped = if batch >= 2 {
+            self.world.step_ticks(batch)
+        } else {
+            if left == 1 {
+                observer.before_last_tick(&self.world);
             }
-            observer.after_tick(&self.world)?;
-            return Ok(());
-        }
-        if left == 1 {
-            observer.before_last_tick(&self.world);
-        }
-        if let Err(d) = self.world.step() {
+            self.world.step()
+        };
+        if let Err(d) = stepped {
             observer.on_divergence(&self.world, &d);
             return Err(LoopError::Diverged(d));
         }
         observer.after_tick(&self.world)?;
         Ok(())
+    }
+
+    /// How many ticks from now may run as one batch (below 2: none): never the frame's last,
+    /// none past the next queued command or the observer's next needed tick, and only in a
+    /// world without contacts. A frame of one or two ticks (a window) asks nothing more.
+    fn batch_len(&self, left: u32, observer: &impl TickObserver) -> u64 {
+        if left < 3 || !self.world.contacts().is_empty() {
+            return 0;
+        }
+        let tick = self.world.tick();
+        let mut batch = u64::from(left - 1);
+        if let Some(next) = self.queue.front() {
+            batch = batch.min(next.tick.saturating_sub(tick));
+        }
+        batch.min(observer.next_needed_tick(tick).saturating_sub(tick))
     }
 
     /// Applies every queued command due at or before the current tick.

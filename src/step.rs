@@ -201,15 +201,17 @@ impl World {
             Batch {
                 lanes,
                 saved: saved_lanes,
-                frame: &frame,
                 events: &mut self.chunk_events[..chunks],
                 carry_valid: self.carry_valid,
-                ticks,
-                substeps: self.substeps,
-                guard: &guard,
+                work: BatchWork {
+                    frame: &frame,
+                    ticks,
+                    substeps: self.substeps,
+                    guard: &guard,
+                },
             },
         );
-        if out.first_non_finite.is_some() {
+        if !out.ok {
             self.bodies.p.copy_from(&self.batch_backup.p);
             self.bodies.mv.copy_from(&self.batch_backup.mv);
             if carries {
@@ -501,17 +503,24 @@ impl SchemeVisitor for Integrate<'_, '_> {
     }
 }
 
-/// [`World::step_ticks`]'s batch over all bodies: `first_non_finite` is `Some` if any body
-/// turned non-finite (which one does not matter: the batch is undone).
+/// [`World::step_ticks`]'s batch over all bodies, saving their state into `saved` first.
 struct Batch<'a, 'f> {
     lanes: Lanes<'a>,
     saved: Lanes<'a>,
-    frame: &'f StepFrame<'f>,
     events: &'a mut [Vec<Event>],
     carry_valid: bool,
-    ticks: u64,
-    substeps: u32,
-    guard: &'f Guard<'f>,
+    work: BatchWork<'f>,
+}
+
+/// What a batch reports.
+#[derive(Clone, Copy)]
+struct BatchOut {
+    evals: u64,
+    /// No body turned non-finite or tripped the guard (otherwise the batch is undone, so
+    /// which body does not matter).
+    ok: bool,
+    /// Whether the scheme wrote the carried force.
+    carried: bool,
 }
 
 /// The energy guard inside a batch: due after the ticks `first_tick + k` that are multiples of
@@ -523,33 +532,24 @@ struct Guard<'f> {
 }
 
 impl SchemeVisitor for Batch<'_, '_> {
-    type Out = KernelOut;
-    fn visit<S: Scheme>(self, scheme: S) -> KernelOut {
+    type Out = BatchOut;
+    fn visit<S: Scheme>(self, scheme: S) -> BatchOut {
         let Batch {
             mut lanes,
             saved,
-            frame,
             events,
             carry_valid,
-            ticks,
-            substeps,
-            guard,
+            work,
         } = self;
         let mut extra = 0;
         if S::CARRIES_FORCE && !carry_valid {
             extra = fill_carry(&scheme, &mut lanes);
         }
-        let work = BatchWork {
-            frame,
-            ticks,
-            substeps,
-            guard,
-        };
-        let out = split_batch::<S>(&scheme, lanes, saved, events, &work);
-        KernelOut {
-            evals: out.evals + extra,
+        let (evals, ok) = split_batch::<S>(&scheme, lanes, saved, events, &work);
+        BatchOut {
+            evals: evals + extra,
+            ok,
             carried: S::CARRIES_FORCE,
-            ..out
         }
     }
 }
@@ -569,7 +569,7 @@ fn split_batch<S: Scheme>(
     saved: Lanes,
     events: &mut [Vec<Event>],
     work: &BatchWork,
-) -> KernelOut {
+) -> (u64, bool) {
     if events.len() <= 1 {
         return batch_chunk::<S>(scheme, lanes, saved, &mut events[0], work);
     }
@@ -582,24 +582,23 @@ fn split_batch<S: Scheme>(
         || split_batch::<S>(scheme, left, saved_left, ev_left, work),
         || split_batch::<S>(scheme, right, saved_right, ev_right, work),
     );
-    a.then(b)
+    (a.0 + b.0, a.1 & b.1)
 }
 
 /// One chunk of a batch: block by block, save the block, then run it every tick of the batch
 /// (each tick `substeps` times) through the same per-body loop as a tick, checking the guard
-/// after the ticks it is due. `first_non_finite` is `Some` if a body turned non-finite or
-/// tripped the guard (the batch is then undone, so which body does not matter).
+/// after the ticks it is due. Returns the force evaluations and whether every body stayed
+/// finite and within its energy bound.
 fn batch_chunk<S: Scheme>(
     scheme: &S,
     mut l: Lanes,
     mut saved: Lanes,
     events: &mut Vec<Event>,
     work: &BatchWork,
-) -> KernelOut {
+) -> (u64, bool) {
     let n = l.len();
     let guard = work.guard;
-    let mut out = KernelOut::default();
-    let mut ok = true;
+    let (mut evals, mut ok) = (0, true);
     for start in (0..n).step_by(BATCH_BLOCK) {
         let end = (start + BATCH_BLOCK).min(n);
         let mut block = l.sub(start, end);
@@ -607,7 +606,7 @@ fn batch_chunk<S: Scheme>(
         for tick in guard.first_tick..guard.first_tick + work.ticks {
             for _ in 0..work.substeps {
                 let o = run::<S, false>(scheme, block.sub(0, end - start), work.frame, events);
-                out.evals += o.evals;
+                evals += o.evals;
                 ok &= o.first_non_finite.is_none();
             }
             if guard.every != 0 && tick.is_multiple_of(guard.every) {
@@ -615,8 +614,7 @@ fn batch_chunk<S: Scheme>(
             }
         }
     }
-    out.first_non_finite = (!ok).then_some(l.offset);
-    out
+    (evals, ok)
 }
 
 fn fill_carry<S: Scheme>(scheme: &S, l: &mut Lanes) -> u64 {

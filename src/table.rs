@@ -193,7 +193,7 @@ impl<W: Write> TickObserver for TableWriter<W> {
     /// steps worlds with contacts tick by tick).
     fn next_needed_tick(&self, tick: u64) -> u64 {
         if self.rows {
-            (tick / self.every + 1).saturating_mul(self.every)
+            crate::sim_loop::next_multiple(tick, self.every)
         } else {
             u64::MAX
         }

@@ -25,7 +25,7 @@ use std::time::{Duration, Instant};
 
 use crate::command::Stamped;
 use crate::hash::state_hash;
-use crate::sim_loop::{ObserverError, TickObserver};
+use crate::sim_loop::{ObserverError, TickObserver, next_multiple};
 use crate::world::{Snapshot, World};
 
 use super::format::{self, Build, Footer, Header, Kind};
@@ -111,15 +111,6 @@ pub struct Recorder<W: Write> {
     until_read: u32,
     last_keyframe: u64,
     stats: RecordStats,
-}
-
-/// The first multiple of `every` (at least 1) after `tick`; no division when `every` is 1.
-fn next_multiple(tick: u64, every: u64) -> u64 {
-    if every == 1 {
-        tick.saturating_add(1)
-    } else {
-        (tick / every).saturating_add(1).saturating_mul(every)
-    }
 }
 
 impl<W: Write> Recorder<W> {
