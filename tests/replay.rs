@@ -328,14 +328,7 @@ fn a_force_evaluation_count_that_differs_is_a_warning_not_a_divergence() {
 #[test]
 fn a_recorded_divergence_replays_as_the_same_divergence() {
     // The reference's stiff spring: k/m = 1e4 at h = 1/60, explicit Euler, blows up.
-    let scene = scene::parse(
-        "Scene(dt: 0.016666667, integrator: ExplicitEuler,
-               forces: [Spring(anchor: (0, 0, 0), stiffness: 10000.0)],
-               bodies: [(mass: 1, position: (1, 0, 0))])",
-        "stiff.ron",
-        "stiff",
-    )
-    .unwrap();
+    let scene = stiff_scene();
     let mut sim = SimLoop::new(World::new(&scene));
     let mut recorder = Recorder::start(Vec::new(), &sim.world, options(1, 0)).unwrap();
     let err = sim.run_until(

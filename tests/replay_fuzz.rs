@@ -21,7 +21,7 @@ use replay_support::*;
 use volley::clock::VirtualClock;
 use volley::replay::{Recorder, Recording, Replay};
 use volley::world::SplitMix64;
-use volley::{SimLoop, World, scene};
+use volley::{SimLoop, World};
 
 /// Cases the dev-profile test run covers.
 const CI_CASES: u64 = 20_000;
@@ -40,14 +40,7 @@ fn corpus() -> Vec<Vec<u8>> {
     sim.run_until(75, &mut source, &mut recorder).unwrap();
     files.push(recorder.finish(&sim.world).unwrap().0);
     // Ends in a divergence.
-    let stiff = scene::parse(
-        "Scene(dt: 0.016666667, integrator: ExplicitEuler,
-               forces: [Spring(anchor: (0, 0, 0), stiffness: 10000.0)],
-               bodies: [(mass: 1, position: (1, 0, 0))])",
-        "stiff.ron",
-        "stiff",
-    )
-    .unwrap();
+    let stiff = stiff_scene();
     let mut sim = SimLoop::new(World::new(&stiff));
     let mut recorder = Recorder::start(Vec::new(), &sim.world, options(1, 5)).unwrap();
     let _ = sim.run_until(

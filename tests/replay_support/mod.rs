@@ -16,6 +16,19 @@ pub fn coverage_scene() -> Scene {
     scene::load(Path::new("tests/data/replay_scene.ron")).unwrap()
 }
 
+/// The reference's stiff spring (k/m = 1e4 at h = 1/60 s) under explicit Euler: it blows up
+/// within a few ticks, so its recordings end in a divergence.
+pub fn stiff_scene() -> Scene {
+    scene::parse(
+        "Scene(dt: 0.016666667, integrator: ExplicitEuler,
+               forces: [Spring(anchor: (0, 0, 0), stiffness: 10000.0)],
+               bodies: [(mass: 1, position: (1, 0, 0))])",
+        "stiff.ron",
+        "stiff",
+    )
+    .unwrap()
+}
+
 /// The script with every kind of command.
 pub fn coverage_commands() -> Vec<Stamped> {
     let path = "tests/data/replay_commands.txt";
