@@ -11,9 +11,10 @@ use volley::{Integrator, LoopError, SimLoop, World};
 
 use super::{EXIT_DIVERGED, EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail, resolve_scene};
 
-/// Arguments of `volley headless`.
+/// What `volley headless` and `volley record` both take: the scene, its overrides, how long to
+/// run, threads and a command script.
 #[derive(Args, Clone)]
-pub struct HeadlessArgs {
+pub struct RunArgs {
     /// Scene file, or the name of a bundled scene (see `volley scenes`).
     pub scene: String,
     /// Ticks to run (default: the scene's duration).
@@ -32,6 +33,36 @@ pub struct HeadlessArgs {
     /// Integrator steps per tick.
     #[arg(long)]
     pub substeps: Option<u32>,
+    /// Worker threads for stepping (results are identical for any count).
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+    /// Command script (`TICK: COMMAND` lines) applied during the run.
+    #[arg(long)]
+    pub commands: Option<PathBuf>,
+}
+
+impl RunArgs {
+    /// Defaults for `scene`, as if only the scene were given.
+    pub fn for_scene(scene: &str) -> RunArgs {
+        RunArgs {
+            scene: scene.to_string(),
+            ticks: None,
+            until: None,
+            integrator: None,
+            dt: None,
+            substeps: None,
+            threads: 1,
+            commands: None,
+        }
+    }
+}
+
+/// Arguments of `volley headless`.
+#[derive(Args, Clone)]
+pub struct HeadlessArgs {
+    /// The scene and the run.
+    #[command(flatten)]
+    pub run: RunArgs,
     /// Print a row every K ticks.
     #[arg(long, default_value_t = 1)]
     pub every: u64,
@@ -44,12 +75,6 @@ pub struct HeadlessArgs {
     /// Print events and the summary only, no rows.
     #[arg(long)]
     pub no_table: bool,
-    /// Worker threads for stepping (results are identical for any count).
-    #[arg(long, default_value_t = 1)]
-    pub threads: usize,
-    /// Command script (`TICK: COMMAND` lines) applied during the run.
-    #[arg(long)]
-    pub commands: Option<PathBuf>,
     /// Write a PNG of the scene into this folder at tick 0 and every `--frame-every` ticks
     /// (rendered offscreen; needs a GPU adapter, a software one will do).
     #[arg(long, value_name = "DIR")]
@@ -60,29 +85,6 @@ pub struct HeadlessArgs {
     /// Ticks between frames for `--frames`.
     #[arg(long, value_name = "K", default_value_t = 1, requires = "frames")]
     pub frame_every: u64,
-}
-
-impl HeadlessArgs {
-    /// Defaults for `scene`, as if only the scene were given.
-    pub fn for_scene(scene: &str) -> HeadlessArgs {
-        HeadlessArgs {
-            scene: scene.to_string(),
-            ticks: None,
-            until: None,
-            integrator: None,
-            dt: None,
-            substeps: None,
-            every: 1,
-            format: Format::Table,
-            precision: 4,
-            no_table: false,
-            threads: 1,
-            commands: None,
-            frames: None,
-            size: None,
-            frame_every: 1,
-        }
-    }
 }
 
 /// Parses an integrator name for a flag, listing the valid names on error.
@@ -100,7 +102,7 @@ pub fn parse_integrator(flag: &str, name: &str) -> Result<Integrator, Failure> {
 }
 
 /// Loads the scene and applies the run's overrides (dt, substeps, integrator).
-pub fn load_scene(args: &HeadlessArgs) -> Result<Scene, Failure> {
+pub fn load_scene(args: &RunArgs) -> Result<Scene, Failure> {
     let path = resolve_scene(&args.scene)?;
     let mut scene = scene::load(&path).map_err(|e| fail(EXIT_INPUT, e))?;
     if let Some(dt) = args.dt {
@@ -123,7 +125,7 @@ pub fn load_scene(args: &HeadlessArgs) -> Result<Scene, Failure> {
 }
 
 /// Ticks a run covers: `--ticks`, `--until`, or the scene's duration.
-pub fn run_length(args: &HeadlessArgs, scene: &Scene) -> Result<u64, Failure> {
+pub fn run_length(args: &RunArgs, scene: &Scene) -> Result<u64, Failure> {
     match (args.ticks, args.until) {
         (Some(n), _) => Ok(n),
         (None, Some(t)) if t.is_finite() => Ok(scene.ticks_until(t)),
@@ -157,12 +159,12 @@ pub fn loop_failure(e: LoopError) -> Failure {
 
 /// Runs the scene and prints rows, events and the summary; a divergence keeps what was printed.
 pub fn run(args: &HeadlessArgs) -> Result<(), Failure> {
-    let scene = load_scene(args)?;
-    let ticks = run_length(args, &scene)?;
-    let commands = load_commands(args.commands.as_ref())?;
+    let scene = load_scene(&args.run)?;
+    let ticks = run_length(&args.run, &scene)?;
+    let commands = load_commands(args.run.commands.as_ref())?;
     super::study::print_stability_warnings(&volley::stability::check(&scene));
     let mut world = World::new(&scene);
-    world.set_threads(args.threads);
+    world.set_threads(args.run.threads);
     let mut sim = SimLoop::new(world);
     sim.schedule(commands);
     let stdout = std::io::stdout().lock();

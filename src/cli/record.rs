@@ -8,63 +8,33 @@ use volley::hash::hex;
 use volley::replay::{RecordOptions, Recorder};
 use volley::{LoopError, SimLoop, World};
 
-use super::headless::{HeadlessArgs, load_commands, load_scene, loop_failure, run_length};
+use super::headless::{RunArgs, load_commands, load_scene, loop_failure, run_length};
 use super::{EXIT_DIVERGED, EXIT_ENVIRONMENT, Failure, fail};
 
 /// Arguments of `volley record`.
 #[derive(Args, Clone)]
 pub struct RecordArgs {
-    /// Scene file, or the name of a bundled scene (see `volley scenes`).
-    pub scene: String,
+    /// The scene and the run, as for `volley headless` (commands are recorded).
+    #[command(flatten)]
+    pub run: RunArgs,
     /// The recording to write (overwritten if it exists); `.vrec` by convention.
     #[arg(short = 'o', long = "output")]
     pub output: PathBuf,
-    /// Ticks to run (default: the scene's duration).
-    #[arg(long, conflicts_with = "until")]
-    pub ticks: Option<u64>,
-    /// Run until this sim time (s).
-    #[arg(long)]
-    pub until: Option<f64>,
-    /// Command script (`TICK: COMMAND` lines) applied during the run and recorded.
-    #[arg(long)]
-    pub commands: Option<PathBuf>,
     /// Store the state hash every K ticks (1: every tick).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     pub hash_every: u64,
     /// Store a keyframe every K ticks for seeking and field reports (0: start and end only).
     #[arg(long, default_value_t = 600)]
     pub keyframe_every: u64,
-    /// Integrator override (as for `volley headless`).
-    #[arg(long)]
-    pub integrator: Option<String>,
-    /// Timestep override (s), rounded to whole nanoseconds.
-    #[arg(long)]
-    pub dt: Option<f64>,
-    /// Integrator steps per tick.
-    #[arg(long)]
-    pub substeps: Option<u32>,
-    /// Worker threads for stepping (the recording is the same for any count).
-    #[arg(long, default_value_t = 1)]
-    pub threads: usize,
 }
 
 /// Records the run; a divergence is recorded too (the replay reproduces it) and exits 3.
 pub fn run(args: &RecordArgs) -> Result<(), Failure> {
-    let headless = HeadlessArgs {
-        ticks: args.ticks,
-        until: args.until,
-        integrator: args.integrator.clone(),
-        dt: args.dt,
-        substeps: args.substeps,
-        threads: args.threads,
-        commands: args.commands.clone(),
-        ..HeadlessArgs::for_scene(&args.scene)
-    };
-    let scene = load_scene(&headless)?;
-    let ticks = run_length(&headless, &scene)?;
-    let commands = load_commands(args.commands.as_ref())?;
+    let scene = load_scene(&args.run)?;
+    let ticks = run_length(&args.run, &scene)?;
+    let commands = load_commands(args.run.commands.as_ref())?;
     let mut world = World::new(&scene);
-    world.set_threads(args.threads);
+    world.set_threads(args.run.threads);
     let mut sim = SimLoop::new(world);
     sim.schedule(commands);
     let path = args.output.display().to_string();
@@ -73,7 +43,7 @@ pub fn run(args: &RecordArgs) -> Result<(), Failure> {
     let options = RecordOptions {
         hash_every: args.hash_every,
         keyframe_every: args.keyframe_every,
-        scene_file: args.scene.clone(),
+        scene_file: args.run.scene.clone(),
         ..RecordOptions::default()
     };
     let mut recorder = Recorder::start(file, &sim.world, options).map_err(io)?;

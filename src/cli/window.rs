@@ -7,7 +7,7 @@ use clap::Args;
 use volley::app::{self, AppError, RunSummary, WindowOptions};
 use volley::integrate::Integrator;
 
-use super::headless::{HeadlessArgs, load_scene, parse_integrator};
+use super::headless::{RunArgs, load_scene, parse_integrator};
 use super::{EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail, resolve_scene, scene_dirs};
 
 /// Arguments of `volley window`.
@@ -166,10 +166,10 @@ fn bundled_scenes() -> Vec<(String, PathBuf)> {
 /// Opens the window and runs it until it closes.
 pub fn run(args: &WindowArgs) -> Result<(), Failure> {
     let path = resolve_scene(&args.scene)?;
-    let scene = load_scene(&HeadlessArgs {
+    let scene = load_scene(&RunArgs {
         integrator: args.integrator.clone(),
         dt: args.dt,
-        ..HeadlessArgs::for_scene(&args.scene)
+        ..RunArgs::for_scene(&args.scene)
     })?;
     let compare = match &args.compare {
         Some(list) => parse_compare(list)?,
