@@ -277,6 +277,47 @@ fn with_hashes_every_k_ticks_the_report_bounds_the_divergent_interval() {
     assert!(d.report(None).contains("first differed in ticks 36..=40"));
 }
 
+/// Counts the ticks the loop shows it and needs none of them, so the loop may batch any tick.
+#[derive(Default)]
+struct Shown(u64);
+
+impl volley::TickObserver for Shown {
+    fn after_tick(&mut self, _world: &World) -> Result<(), volley::sim_loop::ObserverError> {
+        self.0 += 1;
+        Ok(())
+    }
+
+    fn next_needed_tick(&self, _tick: u64) -> u64 {
+        u64::MAX
+    }
+}
+
+#[test]
+fn a_recording_hashing_every_kth_tick_replays_the_ticks_between_as_batches() {
+    let scene = free_flight();
+    let bytes = record(&scene, 2000, &[], options(10, 500));
+    let mut played = volley::replay::Replay::start(open(&bytes).unwrap(), None).unwrap();
+    let mut shown = Shown::default();
+    played.run_to(u64::MAX, &mut shown).unwrap();
+    assert!(played.first_divergence().is_none());
+    assert_eq!(played.world().tick(), 2000);
+    // Every stored hash (ticks 0, 10, ..., 2000) compared: a batch never runs past one.
+    assert_eq!(played.hashes_checked(), 201);
+    assert_eq!(played.keyframes_checked(), 5);
+    // The loop hands over a tick at each stored hash and, per frame, at most two more: the
+    // end of the batch before the frame's last tick and that tick, which runs alone. Frames
+    // are 65 ticks, cut at the 4 keyframes: at most 2000 / 10 + 2 * (2000 / 65 + 1 + 4) calls,
+    // where tick by tick it is 2000.
+    assert!(shown.0 <= 200 + 2 * (30 + 1 + 4), "{} ticks shown", shown.0);
+    // A nudge between stored hashes is still caught at the first hash after it.
+    let bytes = record_nudged(&scene, 2000, 1234, options(10, 500));
+    let d = replay(&bytes, None).first_divergence().cloned().unwrap();
+    assert_eq!(
+        (d.tick, d.last_match, d.compared_at),
+        (1240, Some(1230), Some(1500))
+    );
+}
+
 #[test]
 fn a_keyframe_field_the_hash_does_not_cover_is_still_compared() {
     let (scene, commands) = (coverage_scene(), coverage_commands());

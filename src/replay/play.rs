@@ -1,6 +1,8 @@
-//! Re-simulating a recording on its own: the same [`SimLoop`], the recorded commands, one tick
-//! per frame of a steady clock, every stored hash and keyframe compared by a [`Verifier`], and
-//! the first divergence named.
+//! Re-simulating a recording on its own: the same [`SimLoop`], the recorded commands, frames of
+//! [`crate::sim_loop::UNPACED_FRAME_TICKS`] ticks from a steady clock (so the ticks between
+//! stored hashes, keyframes and commands of a world without contacts run as batches: the same
+//! bits), every stored hash and keyframe compared by a [`Verifier`], and the first divergence
+//! named.
 //!
 //! A recording that starts at tick 0 is replayed from its scene (so a change in how a scene
 //! becomes a world is caught at tick 0); one that starts later, or a seek, starts from the
@@ -32,9 +34,9 @@ impl<R: Read + Seek> Replay<R> {
     /// Prepares a replay from the start, or from the keyframe at or before `seek`. Fails if the
     /// embedded scene no longer parses or the keyframe does not fit it.
     pub fn start(recording: Recording<R>, seek: Option<u64>) -> Result<Self, ReplayError> {
-        let (verifier, sim) = Verifier::start(recording, seek)?;
+        let (verifier, mut sim) = Verifier::start(recording, seek)?;
         Ok(Replay {
-            source: VirtualClock::Steady(verifier.scene().timestep),
+            source: sim.unpaced_source(crate::sim_loop::UNPACED_FRAME_TICKS),
             verifier,
             sim,
         })

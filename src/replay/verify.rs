@@ -387,4 +387,19 @@ impl<O: TickObserver> TickObserver for Check<'_, O> {
     fn on_divergence(&mut self, world: &World, divergence: &Divergence) {
         self.inner.on_divergence(world, divergence);
     }
+
+    /// The next stored hash's tick (none once a mismatch waits for its keyframe, where the
+    /// loop stops anyway), or sooner if the caller's observer needs a tick: a recording that
+    /// hashes every K ticks replays the ticks between as batches.
+    fn next_needed_tick(&self, tick: u64) -> u64 {
+        let hash = match self.progress.pending {
+            Some(_) => u64::MAX,
+            None => self.hashes[self.progress.next_hash.min(self.hashes.len())..]
+                .iter()
+                .map(|h| h.0)
+                .find(|&t| t > tick)
+                .unwrap_or(u64::MAX),
+        };
+        hash.min(self.inner.next_needed_tick(tick))
+    }
 }
