@@ -300,8 +300,7 @@ pub fn table(md: &mut String, r: &Results, e2e: Option<&Result<E2e, String>>) ->
          stepping and recording tick by tick), without an \
          observer (off) and with a `Recorder`: hashing every tick into `io::sink()` (no I/O), \
          and with `volley record`'s options into a real file, hashing every tick, every 10th and \
-         every 100th (keyframes every 600 ticks and the 50 ms flush in all three). The last \
-         column is the state hash alone. `volley record` itself feeds the loop frames of 65 \
+         every 100th (keyframes every 600 ticks and the 50 ms flush in all three). `volley record` itself feeds the loop frames of 65 \
          ticks (a 64-tick batch and the frame's last tick), so with `--hash-every K` a world without contacts runs the unhashed ticks as \
          batches, faster than this table's 'off'. The issue's budget: recording every tick \
          costs at most 5 % over not recording. The last two columns are the state hash alone \
