@@ -319,6 +319,47 @@ fn a_recording_hashing_every_kth_tick_replays_the_ticks_between_as_batches() {
 }
 
 #[test]
+fn batched_replays_keep_commands_seeks_and_a_recorded_divergence() {
+    // Contact-free, so the replay batches; K = 7 puts stored hashes off the keyframe grid.
+    let scene = free_flight();
+    let script = "33: spawn mass=2 radius=0.2 position=1,0,3 velocity=4,0,6
+                  90: integrator rk4
+                  120: force LinearDrag off
+                  200: despawn 0";
+    let commands = volley::command::parse_script(script, "batched.txt").unwrap();
+    let bytes = record(&scene, 300, &commands, options(7, 50));
+    let stored: Vec<u64> = open(&bytes).unwrap().hashes().iter().map(|h| h.0).collect();
+    let final_hash = open(&bytes).unwrap().hashes().last().unwrap().1;
+    for (seek, from) in [(None, 0), (Some(120), 100), (Some(260), 250)] {
+        let mut played = volley::replay::Replay::start(open(&bytes).unwrap(), seek).unwrap();
+        let mut shown = Shown::default();
+        played.run_to(u64::MAX, &mut shown).unwrap();
+        assert_eq!(played.started_at(), from);
+        assert!(played.first_divergence().is_none(), "seek {seek:?}");
+        let due = stored.iter().filter(|&&t| t >= from).count() as u64;
+        assert_eq!(played.hashes_checked(), due, "seek {seek:?}");
+        assert_eq!(state_hash(played.world()), final_hash);
+        assert!(
+            shown.0 < (300 - from) / 2,
+            "seek {seek:?}: {} ticks shown",
+            shown.0
+        );
+    }
+    // The stiff spring blows up; recorded hashing every 5th tick, its batched replay stops at
+    // the recorded divergence (a batch that goes non-finite is re-run tick by tick).
+    let stiff = stiff_scene();
+    let mut sim = SimLoop::new(World::new(&stiff));
+    let mut recorder = Recorder::start(Vec::new(), &sim.world, options(5, 0)).unwrap();
+    let mut source = VirtualClock::Steady(stiff.timestep);
+    assert!(sim.run_until(1000, &mut source, &mut recorder).is_err());
+    let recorded = sim.world.divergence().unwrap();
+    let bytes = recorder.finish(&sim.world).unwrap().0;
+    let replayed = replay(&bytes, None);
+    assert!(replayed.first_divergence().is_none());
+    assert_eq!(replayed.world().divergence(), Some(recorded));
+}
+
+#[test]
 fn a_keyframe_field_the_hash_does_not_cover_is_still_compared() {
     let (scene, commands) = (coverage_scene(), coverage_commands());
     let bytes = record(&scene, 150, &commands, options(1, 50));
