@@ -144,6 +144,22 @@ pub fn hex(hash: u64) -> String {
     format!("0x{hash:016x}")
 }
 
+/// Parses a hash as [`hex`] prints it: 1 to 16 hex digits, `0x` optional, any case.
+pub fn parse_hex(text: &str) -> Result<u64, String> {
+    let digits = text
+        .strip_prefix("0x")
+        .or_else(|| text.strip_prefix("0X"))
+        .unwrap_or(text);
+    let valid =
+        !digits.is_empty() && digits.len() <= 16 && digits.bytes().all(|b| b.is_ascii_hexdigit());
+    match valid {
+        true => u64::from_str_radix(digits, 16).map_err(|e| e.to_string()),
+        false => Err(format!(
+            "expected a state hash as volley prints it (0x and up to 16 hex digits), got `{text}`"
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -182,6 +198,25 @@ mod tests {
                 world.despawn(last);
             }
             assert_eq!(state_hash(&world), reference_hash(&world), "{keep} bodies");
+        }
+    }
+
+    #[test]
+    fn printed_hashes_parse_back() {
+        for h in [0, 1, 0xe02a_9ef4_a1dd_b321, u64::MAX] {
+            assert_eq!(parse_hex(&hex(h)), Ok(h));
+        }
+        assert_eq!(parse_hex("E02A9EF4A1DDB321"), Ok(0xe02a_9ef4_a1dd_b321));
+        for bad in [
+            "",
+            "0x",
+            "0x1g",
+            "+1",
+            "0x00000000000000001",
+            " 0x1",
+            "-0x1",
+        ] {
+            assert!(parse_hex(bad).is_err(), "{bad:?}");
         }
     }
 

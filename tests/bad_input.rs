@@ -99,6 +99,7 @@ fn cli_errors_are_one_line_with_a_nonzero_exit() {
         vec!["headless", "no-such-scene"],
         vec!["headless", "seed", "--dt", "0"],
         vec!["headless", "seed", "--ticks", "ten"],
+        vec!["headless", "seed", "--expect-hash", "0xe02a9ef4a1ddb32g"],
         vec!["aim", "--from", "0,0", "--to", "1,1,1", "--speed", "3"],
         vec!["aim", "--from", "0,0,0", "--to", "1000,0,0", "--speed", "3"],
         vec!["warp"],

@@ -20,6 +20,41 @@ fn seed_scene_hash_is_pinned() {
     assert_eq!(hex(state_hash(&sim.world)), SEED_HASH_AT_27);
 }
 
+#[test]
+fn headless_checks_a_pinned_final_hash() {
+    let run = |hash: &str| {
+        let args = ["headless", "seed", "--no-table", "--expect-hash", hash];
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_volley"))
+            .args(args)
+            .output()
+            .unwrap();
+        let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+        (out.status.code(), text(&out.stdout), text(&out.stderr))
+    };
+    let (code, stdout, stderr) = run(SEED_HASH_AT_27);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stdout.contains(&format!("hash={SEED_HASH_AT_27}")),
+        "{stdout}"
+    );
+    // Any other hash (here the last digit changed, and upper case) fails after the summary.
+    let other = SEED_HASH_AT_27
+        .replace("321", "322")
+        .to_uppercase()
+        .replace("0X", "0x");
+    let (code, stdout, stderr) = run(&other);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stdout.contains("summary: ticks=27"), "{stdout}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "final hash {SEED_HASH_AT_27} at tick 27, expected {}",
+            other.to_lowercase()
+        )),
+        "{stderr}"
+    );
+}
+
 /// Final hash of the golden recording, tests/data/golden.vrec: the replay coverage scene and
 /// script (a seeded volley, bounces, a wall, a target, a spring, drag toggled on and off, every
 /// kind of command, velocity Verlet's carried force) over 300 ticks, a hash every tick and a

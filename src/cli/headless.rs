@@ -5,11 +5,14 @@ use std::path::PathBuf;
 use clap::Args;
 
 use volley::clock::VirtualClock;
+use volley::hash::hex;
 use volley::scene::{self, Scene};
 use volley::table::{Format, Summary, TableWriter};
 use volley::{Integrator, LoopError, SimLoop, World};
 
-use super::{EXIT_DIVERGED, EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail, resolve_scene};
+use super::{
+    EXIT_DIVERGED, EXIT_ENVIRONMENT, EXIT_INPUT, EXIT_MISMATCH, Failure, fail, resolve_scene,
+};
 
 /// What `volley headless` and `volley record` both take: the scene, its overrides, how long to
 /// run, threads and a command script.
@@ -85,6 +88,10 @@ pub struct HeadlessArgs {
     /// Ticks between frames for `--frames`.
     #[arg(long, value_name = "K", default_value_t = 1, requires = "frames")]
     pub frame_every: u64,
+    /// The final state hash this run must end with (as the summary prints it): a different one
+    /// exits 1 after the summary, for CI that pins a scene's result.
+    #[arg(long, value_name = "HASH", value_parser = volley::hash::parse_hex)]
+    pub expect_hash: Option<u64>,
 }
 
 /// Parses an integrator name for a flag, listing the valid names on error.
@@ -199,5 +206,20 @@ pub fn run(args: &HeadlessArgs) -> Result<(), Failure> {
     };
     table.flush().map_err(io)?;
     outcome.map_err(loop_failure)?;
-    table.summary(&Summary::of(&sim.world)).map_err(io)
+    let summary = Summary::of(&sim.world);
+    table.summary(&summary).map_err(io)?;
+    let hash = volley::hash::state_hash(&sim.world);
+    match args.expect_hash {
+        Some(expected) if expected != hash => Err(fail(
+            EXIT_MISMATCH,
+            format!(
+                "final hash {} at tick {}, expected {}: the run differs from the pinned one \
+                 (record both builds and `volley replay --verify` names the first divergent tick)",
+                summary.hash,
+                sim.world.tick(),
+                hex(expected)
+            ),
+        )),
+        _ => Ok(()),
+    }
 }

@@ -22,7 +22,8 @@ pub struct Failure {
     pub message: String,
 }
 
-/// Exit code for a replay that failed verification.
+/// Exit code for a replay that failed verification, or a run that ended on another hash than
+/// `--expect-hash`.
 pub const EXIT_MISMATCH: u8 = 1;
 /// Exit code for bad input: arguments, scene, command script, recording.
 pub const EXIT_INPUT: u8 = 2;
