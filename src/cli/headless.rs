@@ -213,8 +213,9 @@ pub fn run(args: &HeadlessArgs) -> Result<(), Failure> {
         Some(expected) if expected != hash => Err(fail(
             EXIT_MISMATCH,
             format!(
-                "final hash {} at tick {}, expected {}: the run differs from the pinned one \
-                 (record both builds and `volley replay --verify` names the first divergent tick)",
+                "final hash {} at tick {}, expected {}: the run differs from the pinned one (a \
+                 recording made by the build that gave it, checked by this one with `volley \
+                 replay --verify`, names the first divergent tick)",
                 summary.hash,
                 sim.world.tick(),
                 hex(expected)
