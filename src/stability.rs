@@ -192,12 +192,16 @@ pub fn growth_per_step(integrator: Integrator, s: &Stiffness, h: f64) -> Growth 
     let disc = tr * tr - 4.0 * det;
     // Rounding allowance: a few ulps of the increments' own size.
     let tol = 8.0 * f64::EPSILON * (tr.abs() + det.abs());
+    // The edge at 1 + mu = -1 is excluded: there the two eigenvalues meet at -1 (symplectic
+    // Euler and Verlet at w h = 2 exactly) and the matrix is defective, so the state grows
+    // linearly (tripling the spring's stretch in the first step). The edge at +1 stays: free
+    // flight (k = 0) is a defective +1, and moving at constant velocity is not a divergence.
     if disc < 0.0 {
         // mu = alpha +- i beta: |1 + mu|^2 = 1 + 2 alpha + alpha^2 + beta^2 = 1 + tr + det.
         let excess = tr + det;
         Growth {
             rho: (1.0 + excess).sqrt(),
-            stable: excess <= tol,
+            stable: excess <= tol && tr > -4.0 + tol,
         }
     } else {
         let root = disc.sqrt();
@@ -210,7 +214,7 @@ pub fn growth_per_step(integrator: Integrator, s: &Stiffness, h: f64) -> Growth 
         let (hi, lo) = (big.max(small), big.min(small));
         Growth {
             rho: (1.0 + hi).abs().max((1.0 + lo).abs()),
-            stable: hi <= tol && lo >= -2.0 - tol,
+            stable: hi <= tol && lo > -2.0 + tol,
         }
     }
 }
@@ -424,10 +428,15 @@ impl StabilityReport {
             self.body_label(body),
             describe(&s, h),
         )];
+        // On the edge itself the spectral radius is 1 and the growth is linear, not geometric.
+        let growth = if v.growth <= 1.0 + 1e-12 {
+            "on its edge, where two eigenvalues meet at -1 and the amplitude grows linearly".into()
+        } else {
+            format!("amplitude {} per step", growth_text(v.growth))
+        };
         lines.push(format!(
-            "{} is outside its linear stability region at this step: amplitude {} per step{}",
+            "{} is outside its linear stability region at this step: {growth}{}",
             v.integrator,
-            growth_text(v.growth),
             limit_note(v.integrator),
         ));
         lines.push(format!("  fix: {}", self.fixes(v).join(", or ")));
@@ -610,6 +619,29 @@ mod tests {
                 real.mv.x
             );
         }
+    }
+
+    #[test]
+    fn the_oscillator_limit_itself_is_unstable() {
+        // w = 20 rad/s at h = 0.1 s: w h = 2, the limit of symplectic Euler and Verlet, where
+        // the step sends x0 to -3 x0 and grows linearly after; just below it, stable.
+        let spring = Stiffness {
+            w2_lin: 400.0,
+            ..Stiffness::default()
+        };
+        for integrator in [Integrator::SemiImplicitEuler, Integrator::VelocityVerlet] {
+            assert!(
+                !growth_per_step(integrator, &spring, 0.1).stable,
+                "{integrator}"
+            );
+            assert!(
+                growth_per_step(integrator, &spring, 0.0995).stable,
+                "{integrator}"
+            );
+        }
+        // Free flight is a defective eigenvalue at +1 and stays stable.
+        let free = Stiffness::default();
+        assert!(growth_per_step(Integrator::SemiImplicitEuler, &free, 0.1).stable);
     }
 
     #[test]

@@ -171,3 +171,24 @@ fn the_verdict_matches_what_the_runs_do_on_the_hard_scenes() {
         }
     }
 }
+
+#[test]
+fn a_step_exactly_on_the_oscillator_limit_is_called_unstable_and_diverges() {
+    // w = 20 rad/s at h = 0.1 s: w h = 2, the edge of symplectic Euler's and Verlet's regions,
+    // where their two eigenvalues meet at -1 and the matrix is defective: from any state off
+    // its one eigenvector (for Verlet, rest; for semi-implicit Euler, v = 20 x) the amplitude
+    // grows linearly, and the energy guard stops both.
+    let scene = parse(
+        "Scene(dt: 0.1, integrator: SemiImplicitEuler,
+               forces: [Spring(anchor: (0, 0, 0), stiffness: 400.0)],
+               bodies: [(mass: 1, position: (1, 0, 0), launch: Velocity((5, 0, 0)))])",
+    );
+    let report = stability::check(&scene);
+    for integrator in [SemiImplicitEuler, VelocityVerlet] {
+        assert!(!report.verdict(integrator).unwrap().stable, "{integrator}");
+        assert!(diverges(&scene, integrator, 1000), "{integrator}");
+    }
+    let warnings = report.warnings().join("\n");
+    assert!(warnings.contains("on its edge"), "{warnings}");
+    assert!(warnings.contains("fix: --substeps 2"), "{warnings}");
+}
