@@ -40,6 +40,26 @@ fn record_then_verify_prints_the_ticks_and_the_final_hash() {
         stdout.starts_with("verified 27 ticks, final hash 0xe02a9ef4a1ddb321 (ticks 0..=27: 28"),
         "{stdout}"
     );
+    // Every 10th tick: 0, 10, 20, and the last tick's hash in the footer; both lines count 4.
+    let out = volley(&[
+        "record",
+        "seed",
+        "--hash-every",
+        "10",
+        "-o",
+        file.to_str().unwrap(),
+    ]);
+    assert!(
+        text(&out.stdout).contains(", 4 hashes,"),
+        "{}",
+        text(&out.stdout)
+    );
+    let out = volley(&["replay", file.to_str().unwrap(), "--verify"]);
+    assert!(
+        text(&out.stdout).contains("(ticks 0..=27: 4 hashes"),
+        "{}",
+        text(&out.stdout)
+    );
     let _ = std::fs::remove_file(&file);
 }
 

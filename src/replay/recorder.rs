@@ -83,7 +83,8 @@ pub struct RecordStats {
     /// Bytes written (buffered or not), the open run of hashes included as the record it
     /// becomes.
     pub bytes: u64,
-    /// Hash records.
+    /// Stored hashes: the hashed ticks, and the footer's final hash when the last tick was
+    /// not one of them (what `volley replay --verify` compares).
     pub hashes: u64,
     /// Keyframes, the start and final ones included.
     pub keyframes: u64,
@@ -110,6 +111,8 @@ pub struct Recorder<W: Write> {
     read_every: u32,
     until_read: u32,
     last_keyframe: u64,
+    /// The last tick whose hash went into a run.
+    last_hashed: Option<u64>,
     stats: RecordStats,
 }
 
@@ -159,6 +162,7 @@ impl<W: Write> Recorder<W> {
             read_every: 1,
             until_read: 1,
             last_keyframe: tick,
+            last_hashed: None,
             stats: RecordStats {
                 start_tick: tick,
                 last_tick: tick,
@@ -196,6 +200,9 @@ impl<W: Write> Recorder<W> {
             final_hash: state_hash(world),
             diverged: world.divergence(),
         };
+        if self.last_hashed != Some(tick) {
+            self.stats.hashes += 1;
+        }
         let payload = format::encode_footer(&footer);
         self.stats.bytes += format::write_frame(self.out(), Kind::Footer, &payload)?;
         self.stats.last_tick = tick;
@@ -234,6 +241,7 @@ impl<W: Write> Recorder<W> {
         }
         self.run.push(tick, state_hash(world));
         self.stats.hashes += 1;
+        self.last_hashed = Some(tick);
         Ok(())
     }
 
