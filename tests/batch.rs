@@ -7,6 +7,8 @@
 //! the runs are longer than `step::BATCH_MAX_TICKS`, so whole blocks, the remainder block and
 //! several batches are all exercised.
 
+mod support;
+
 use volley::clock::VirtualClock;
 use volley::command::Stamped;
 use volley::hash::state_hash;
@@ -128,8 +130,7 @@ fn substeps_and_the_guard_batch_to_the_same_bits() {
 
 #[test]
 fn no_ticks_is_nothing_even_for_a_stopped_world() {
-    let mut s = unstable(3);
-    s.timestep = std::time::Duration::from_millis(50);
+    let s = unstable(3);
     let mut world = World::new(&s);
     let d = world.step_ticks(500).expect_err("the guard trips");
     assert_eq!(world.step_ticks(0), Ok(()));
@@ -138,8 +139,7 @@ fn no_ticks_is_nothing_even_for_a_stopped_world() {
 
 #[test]
 fn a_divergence_inside_a_loop_batch_leaves_the_clock_on_the_worlds_tick() {
-    let mut s = unstable(3);
-    s.timestep = std::time::Duration::from_millis(50);
+    let s = unstable(3);
     let expected = tick_by_tick(&s, 1, 500);
     let Err(d) = expected.result else {
         panic!("the guard must trip")
@@ -174,19 +174,20 @@ fn two_threads_batch_to_the_same_bits_as_one_thread_tick_by_tick() {
 
 /// A stiff spring (w h = 5 at h = 0.05) under explicit Euler: amplitude grows about 5x a tick.
 fn unstable(guard_every: u32) -> Scene {
-    volley(
+    let mut s = volley(
         "Gravity((0.0, 0.0, -9.81)), Spring(anchor: (0.0, 0.0, 0.0), stiffness: 10000.0)",
         BODIES,
         guard_every,
-    )
+    );
+    s.timestep = std::time::Duration::from_millis(50);
+    s
 }
 
 #[test]
 fn a_batch_that_goes_non_finite_stops_where_stepping_stops() {
     // With the guard off only the non-finite check stops it: at 5x a tick the state overflows
     // after about 440 ticks, inside a batch.
-    let mut s = unstable(0);
-    s.timestep = std::time::Duration::from_millis(50);
+    let s = unstable(0);
     let expected = tick_by_tick(&s, 1, 2000);
     let Err(d) = expected.result else {
         panic!("the stiff spring must diverge: {:?}", expected.result)
@@ -202,8 +203,7 @@ fn a_batch_that_goes_non_finite_stops_where_stepping_stops() {
 #[test]
 fn a_batch_that_trips_the_guard_stops_where_stepping_stops() {
     // The guard, every 3 ticks, catches the growth long before the state overflows.
-    let mut s = unstable(3);
-    s.timestep = std::time::Duration::from_millis(50);
+    let s = unstable(3);
     let expected = tick_by_tick(&s, 1, 500);
     let Err(d) = expected.result else {
         panic!("the guard must trip: {:?}", expected.result)
@@ -360,20 +360,6 @@ fn a_recording_hashing_every_tenth_tick_is_the_same_file_batched_or_not() {
     assert_eq!(record(true), bytes);
 }
 
-/// `volley ARGS`' stdout; the run must succeed.
-fn volley_stdout(args: &[&str]) -> String {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_volley"))
-        .args(args)
-        .output()
-        .expect("volley runs");
-    assert!(
-        out.status.success(),
-        "volley {args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).expect("utf-8 output")
-}
-
 #[test]
 fn headless_prints_the_same_rows_and_summary_whether_ticks_are_batched_or_not() {
     // `--every 1` observes every tick (no batch); `--every 10` and `--no-table` let the loop
@@ -390,7 +376,7 @@ fn headless_prints_the_same_rows_and_summary_whether_ticks_are_batched_or_not() 
             "verlet",
         ];
         args.extend_from_slice(extra);
-        volley_stdout(&args)
+        support::volley_stdout(&args, &[])
     };
     let every_tick = run(&["--every", "1"]);
     let summary = |text: &str| {

@@ -1,6 +1,8 @@
 //! Determinism pins: these tests run in the dev profile *and* in release (`scripts/test`), so
 //! passing both means both profiles produce the same bits.
 
+mod support;
+
 use std::path::Path;
 
 use volley::clock::VirtualClock;
@@ -23,11 +25,10 @@ fn seed_scene_hash_is_pinned() {
 #[test]
 fn headless_checks_a_pinned_final_hash() {
     let run = |hash: &str| {
-        let args = ["headless", "seed", "--no-table", "--expect-hash", hash];
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_volley"))
-            .args(args)
-            .output()
-            .unwrap();
+        let out = support::volley_output(
+            &["headless", "seed", "--no-table", "--expect-hash", hash],
+            &[],
+        );
         let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
         (out.status.code(), text(&out.stdout), text(&out.stderr))
     };

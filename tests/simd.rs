@@ -5,28 +5,21 @@
 //! AVX2 every run takes the baseline path and the comparison is trivially equal; `scripts/test`
 //! also runs this file in release, where the loops are actually vectorised.
 
+mod support;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use volley::Integrator;
 
 /// What `volley headless SCENE --no-table ARGS` prints with `VOLLEY_SIMD=simd`: the events and
 /// the summary line with the state hash.
 fn output(simd: &str, scene: &Path, args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_volley"))
-        .env("VOLLEY_SIMD", simd)
-        .arg("headless")
-        .arg(scene)
-        .arg("--no-table")
-        .args(args)
-        .output()
-        .expect("the volley binary runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8(out.stdout).expect("UTF-8 output");
+    let scene = scene.to_str().expect("a UTF-8 path");
+    let all: Vec<&str> = ["headless", scene, "--no-table"]
+        .into_iter()
+        .chain(args.iter().copied())
+        .collect();
+    let stdout = support::volley_stdout(&all, &[("VOLLEY_SIMD", simd)]);
     let last = stdout.lines().last().expect("a summary line");
     assert!(last.starts_with("summary:"), "{last}");
     stdout

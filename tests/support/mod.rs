@@ -44,6 +44,26 @@ pub fn crate_path(rel: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)
 }
 
+/// `volley ARGS` with extra environment variables: its output, whatever the exit status.
+pub fn volley_output(args: &[&str], envs: &[(&str, &str)]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_volley"))
+        .args(args)
+        .envs(envs.iter().copied())
+        .output()
+        .expect("the volley binary runs")
+}
+
+/// `volley ARGS`' stdout; the run must succeed.
+pub fn volley_stdout(args: &[&str], envs: &[(&str, &str)]) -> String {
+    let out = volley_output(args, envs);
+    assert!(
+        out.status.success(),
+        "volley {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).expect("UTF-8 output")
+}
+
 /// The one line of `stderr` that starts with `prefix` (the program's own message among the
 /// drivers' chatter); fails unless there is exactly one.
 pub fn only_line<'a>(stderr: &'a str, prefix: &str) -> &'a str {
