@@ -293,6 +293,30 @@ fn two_core_goal(pair: Option<&Pair>, speedup: Option<f64>) -> &'static str {
     }
 }
 
+/// The cells a one-against-two-threads row ends with, from `group/name/1` and `group/name/2`
+/// at `per` body-steps each: both times, the speed-up, its paired measurement and the goal;
+/// and whether both times were measured.
+fn thread_cells(
+    r: &Results,
+    group: &str,
+    name: &str,
+    per: u64,
+    pair: Option<&Pair>,
+) -> (String, bool) {
+    let one = r.per(&format!("{group}/{name}/1"), per);
+    let two = r.per(&format!("{group}/{name}/2"), per);
+    let speedup = one.zip(two).map(|(a, b)| a / b);
+    let cells = format!(
+        "{} | {} | {} | {} | {}",
+        opt(one, sig),
+        opt(two, sig),
+        opt(speedup, |x| format!("{x:.2}×")),
+        paired_cell(pair, "×"),
+        two_core_goal(pair, speedup)
+    );
+    (cells, one.is_some() && two.is_some())
+}
+
 fn parallel(md: &mut String, r: &Results) -> bool {
     let _ = writeln!(md, "\n### Parallel stepping, N = 1e6\n");
     let _ = writeln!(
@@ -319,21 +343,10 @@ fn parallel(md: &mut String, r: &Results) -> bool {
     );
     for (scene, integrator) in PARALLEL_CASES {
         let name = parallel_name(scene, integrator);
-        let one = r.per(&format!("parallel/{name}/1"), PARALLEL_N);
-        let two = r.per(&format!("parallel/{name}/2"), PARALLEL_N);
-        complete &= one.is_some() && two.is_some();
-        let speedup = one.zip(two).map(|(a, b)| a / b);
         let pair = r.pair(&paired::threads_name(&name));
-        let goal = two_core_goal(pair, speedup);
-        let _ = writeln!(
-            md,
-            "| {}, {integrator} | {} | {} | {} | {} | {goal} |",
-            scene.name(),
-            opt(one, sig),
-            opt(two, sig),
-            opt(speedup, |x| format!("{x:.2}×")),
-            paired_cell(pair, "×")
-        );
+        let (cells, has) = thread_cells(r, "parallel", &name, PARALLEL_N, pair);
+        complete &= has;
+        let _ = writeln!(md, "| {}, {integrator} | {cells} |", scene.name());
     }
     complete
 }
@@ -363,21 +376,14 @@ fn batched(md: &mut String, r: &Results) -> bool {
     for (scene, integrator) in PARALLEL_CASES {
         let name = parallel_name(scene, integrator);
         let per_tick = r.per(&format!("parallel/{name}/1"), PARALLEL_N);
-        let one = r.per(&format!("batched/{name}/1"), ticks);
-        let two = r.per(&format!("batched/{name}/2"), ticks);
-        complete &= one.is_some() && two.is_some();
-        let speedup = one.zip(two).map(|(a, b)| a / b);
         let pair = r.pair(&paired::batched_threads_name(&name));
-        let goal = two_core_goal(pair, speedup);
+        let (cells, has) = thread_cells(r, "batched", &name, ticks, pair);
+        complete &= has;
         let _ = writeln!(
             md,
-            "| {}, {integrator} | {} | {} | {} | {} | {} | {goal} |",
+            "| {}, {integrator} | {} | {cells} |",
             scene.name(),
-            opt(per_tick, sig),
-            opt(one, sig),
-            opt(two, sig),
-            opt(speedup, |x| format!("{x:.2}×")),
-            paired_cell(pair, "×")
+            opt(per_tick, sig)
         );
     }
     let reference = r.per("reference/explicit-euler/1000000", PARALLEL_N);
