@@ -70,7 +70,7 @@ pub struct HeadlessArgs {
     #[arg(long, default_value_t = 1)]
     pub every: u64,
     /// Output format.
-    #[arg(long, value_enum, default_value_t = Format::Table)]
+    #[arg(long, value_parser = super::format_parser(), default_value_t = Format::Table)]
     pub format: Format,
     /// Decimals in the aligned table.
     #[arg(long, default_value_t = 4)]

@@ -96,3 +96,11 @@ pub fn resolve_scene(arg: &str) -> Result<PathBuf, Failure> {
         format!("no scene file `{arg}` and no bundled scene of that name (see `volley scenes`)"),
     ))
 }
+
+/// `--format`: the table formats by name, so `--help` lists them.
+pub fn format_parser() -> impl clap::builder::TypedValueParser<Value = volley::table::Format> {
+    use clap::builder::TypedValueParser;
+    use volley::table::Format;
+    clap::builder::PossibleValuesParser::new(Format::ALL.map(|(_, name)| name))
+        .map(|name| Format::from_name(&name).unwrap_or(Format::Table))
+}

@@ -38,7 +38,7 @@ pub struct ReplayArgs {
     #[arg(long)]
     pub every: Option<u64>,
     /// Output format of the table (default table; implies the table).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = super::format_parser())]
     pub format: Option<Format>,
     /// Decimals in the aligned table (default 4; implies the table).
     #[arg(long)]

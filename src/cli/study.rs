@@ -165,8 +165,8 @@ pub fn run(args: &StudyArgs) -> Result<(), Failure> {
         )
     };
     std::fs::create_dir_all(&dir).map_err(|e| io(&dir, e))?;
-    let svg = study::plot::svg(&report).map_err(|e| fail(EXIT_ENVIRONMENT, e))?;
-    let png = study::plot::png(&report).map_err(|e| fail(EXIT_ENVIRONMENT, e))?;
+    let svg = volley::plot::svg(&report).map_err(|e| fail(EXIT_ENVIRONMENT, e))?;
+    let png = volley::plot::png(&report).map_err(|e| fail(EXIT_ENVIRONMENT, e))?;
     let files: [(&str, Vec<u8>); 4] = [
         ("md", markdown.into_bytes()),
         ("csv", study::output::csv(&report).into_bytes()),

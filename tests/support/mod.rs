@@ -71,3 +71,9 @@ pub fn only_line<'a>(stderr: &'a str, prefix: &str) -> &'a str {
     assert_eq!(ours.len(), 1, "{stderr}");
     ours[0]
 }
+
+/// `rel` under the workspace root, which is this package's folder (the name the simulation
+/// crate's shared test helpers use).
+pub fn ws(rel: impl AsRef<std::path::Path>) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)
+}

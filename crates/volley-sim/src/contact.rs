@@ -1,0 +1,627 @@
+//! Contacts and events: the ground plane, thin walls, target spheres.
+//!
+//! Swept detection (the default) finds the time of impact *inside* the step: the body is
+//! advanced from the start state by its own integrator over a sub-step `tau`, and `tau` is the
+//! root of the signed distance along that path (a bracketed Illinois root finder, converged to a
+//! few ulps of the step). The body is moved to the contact, its normal momentum reflected with
+//! the surface's restitution (frictionless, as in the seed's collision response), and the rest of
+//! the step is integrated from there. Integrators that are exact under constant force therefore
+//! find the exact impact time. Discrete detection only looks at the end of each step, as many
+//! games do; it is here to show what that costs (late impacts, penetration, tunnelling).
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::body::{BodyId, BodyState, Mass};
+use crate::integrate::Scheme;
+
+/// An infinite ground plane `z = height`, solid below.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ground {
+    /// Height of the plane (m).
+    #[serde(default)]
+    pub height: f64,
+    /// Coefficient of restitution, 0 (stops) to 1 (perfectly elastic).
+    pub restitution: f64,
+}
+
+/// A thin infinite wall: the slab of `thickness` centred on `point` across `normal`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Wall {
+    /// A point on the wall's mid-plane (m).
+    pub point: DVec3,
+    /// Normal of the wall (normalised when the scene is loaded).
+    pub normal: DVec3,
+    /// Thickness (m).
+    pub thickness: f64,
+    /// Coefficient of restitution, 0 to 1.
+    #[serde(default = "elastic")]
+    pub restitution: f64,
+}
+
+fn elastic() -> f64 {
+    1.0
+}
+
+/// A target sphere. Targets do not deflect bodies; they report passes and hits.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Target {
+    /// Centre (m).
+    pub center: DVec3,
+    /// Radius (m); a body hits when its centre comes within this plus its own radius.
+    pub radius: f64,
+}
+
+/// When contacts are detected.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Detection {
+    /// Time of impact solved inside the step; nothing is missed, impacts are on time.
+    #[default]
+    Swept,
+    /// Overlap tested at the end of each step only: late, penetrating, and thin walls are missed
+    /// when a body moves further than their thickness in one step.
+    Discrete,
+}
+
+/// Everything a body can touch in a scene.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Contacts {
+    /// Ground plane.
+    pub ground: Option<Ground>,
+    /// Walls.
+    pub walls: Vec<Wall>,
+    /// Targets.
+    pub targets: Vec<Target>,
+    /// Detection mode.
+    pub detection: Detection,
+}
+
+impl Contacts {
+    /// Whether the scene declares no contacts (then the step skips this stage entirely).
+    pub fn is_empty(&self) -> bool {
+        self.ground.is_none() && self.walls.is_empty() && self.targets.is_empty()
+    }
+}
+
+/// Which surface an impact was on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Surface {
+    /// The ground plane.
+    Ground,
+    /// The wall with this index in the scene.
+    Wall(u32),
+}
+
+/// Something that happened to a body during a tick.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Event {
+    /// The tick whose step produced the event (the state after it is tick `tick`).
+    pub tick: u64,
+    /// Sim time of the event (s), inside the step for swept detection.
+    pub time: f64,
+    /// The body.
+    pub body: BodyId,
+    /// What happened.
+    pub kind: EventKind,
+}
+
+/// The kinds of [`Event`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum EventKind {
+    /// The body hit a surface and bounced.
+    Impact {
+        /// Which surface.
+        surface: Surface,
+        /// Normal speed into the surface at impact (m/s).
+        normal_speed: f64,
+        /// Penetration when detected (m): 0 for swept detection.
+        depth: f64,
+    },
+    /// The body came to rest on a surface (its bounce fell below one step of gravity's speed).
+    Rest {
+        /// Which surface.
+        surface: Surface,
+    },
+    /// The body touched a target: its centre came within the two radii of the target's. The
+    /// event's time is the moment of first contact.
+    Hit {
+        /// Index of the target in the scene.
+        target: u32,
+    },
+    /// The body passed a target: the event's time is its closest approach (swept detection).
+    Approach {
+        /// Index of the target in the scene.
+        target: u32,
+        /// Closest distance between the body's and the target's centres (m): 0 is dead centre.
+        distance: f64,
+        /// Whether that is within the two radii (a [`EventKind::Hit`] was reported on entry).
+        hit: bool,
+    },
+}
+
+/// Where and when a step runs, as the contact stage needs it.
+pub(crate) struct StepFrame<'a> {
+    pub contacts: &'a Contacts,
+    /// Tick number the step produces.
+    pub tick: u64,
+    /// Sim time at the start of the step (s).
+    pub t0: f64,
+    /// Step length (s).
+    pub h: f64,
+    /// Normal speed below which a bounce ends at rest (m/s): gravity's speed gain in one step.
+    pub rest_speed: f64,
+}
+
+/// The body being resolved.
+#[derive(Clone, Copy)]
+pub(crate) struct Particle {
+    pub id: BodyId,
+    pub w: Mass,
+    pub r: f64,
+}
+
+/// Most surface impacts resolved inside one step before the rest is clamped.
+const MAX_IMPACTS_PER_STEP: usize = 16;
+
+/// Relative distance (of the plane offset's scale) within which a body counts as touching a
+/// surface at the start of a segment, so a resting body costs no root search.
+const TOUCHING: f64 = 1e-12;
+
+/// A body already resting on a surface meets it again each step at gravity's gain over one step,
+/// `h (m g) / m`, which equals `rest_speed = |g| h` only up to rounding; above it by this factor
+/// is a body that arrived, so a resting body does not report "came to rest" every other tick.
+const REST_MARGIN: f64 = 1.0 + 1e-9;
+
+#[derive(Clone, Copy)]
+struct Plane {
+    surface: Surface,
+    /// Unit normal pointing out of the solid towards the body's side.
+    normal: DVec3,
+    /// Offset: the signed distance of the body's centre is `normal . p - offset`.
+    offset: f64,
+    restitution: f64,
+}
+
+impl Plane {
+    #[inline]
+    fn distance(&self, p: DVec3) -> f64 {
+        self.normal.dot(p) - self.offset
+    }
+}
+
+/// The planes a body of radius `r` at `p` can hit, facing it.
+fn planes(contacts: &Contacts, p: DVec3, r: f64) -> impl Iterator<Item = Plane> + '_ {
+    let ground = contacts.ground.map(|g| Plane {
+        surface: Surface::Ground,
+        normal: DVec3::Z,
+        offset: g.height + r,
+        restitution: g.restitution,
+    });
+    let walls = contacts.walls.iter().enumerate().map(move |(i, w)| {
+        let s = w.normal.dot(p - w.point);
+        let side = if s >= 0.0 { 1.0 } else { -1.0 };
+        let normal = side * w.normal;
+        Plane {
+            surface: Surface::Wall(i as u32),
+            normal,
+            offset: normal.dot(w.point) + 0.5 * w.thickness + r,
+            restitution: w.restitution,
+        }
+    });
+    ground.into_iter().chain(walls)
+}
+
+/// Whether a body moving from `s0` to `s1` might need the contact stage at all.
+#[inline]
+pub(crate) fn needs_resolution(
+    contacts: &Contacts,
+    r: f64,
+    inv_m: f64,
+    s0: &BodyState,
+    s1: &BodyState,
+) -> bool {
+    if let Some(g) = contacts.ground
+        && s1.p.z - g.height - r < 0.0
+    {
+        return true;
+    }
+    for w in &contacts.walls {
+        let (a, b) = (w.normal.dot(s0.p - w.point), w.normal.dot(s1.p - w.point));
+        let reach = 0.5 * w.thickness + r;
+        if b.abs() < reach || (a >= 0.0) != (b >= 0.0) {
+            return true;
+        }
+    }
+    for t in &contacts.targets {
+        let (g0, g1) = (approach_rate(t, s0, inv_m), approach_rate(t, s1, inv_m));
+        let reach2 = (t.radius + r) * (t.radius + r);
+        let entered = (s0.p - t.center).length_squared() > reach2
+            && (s1.p - t.center).length_squared() <= reach2;
+        if (g0 < 0.0 && g1 >= 0.0) || entered {
+            return true;
+        }
+    }
+    false
+}
+
+/// `(p - c) . V`: negative while the body approaches the target's centre.
+#[inline]
+fn approach_rate(t: &Target, s: &BodyState, inv_m: f64) -> f64 {
+    (s.p - t.center).dot(s.mv * inv_m)
+}
+
+/// Resolves contacts for one body over one step that went from `s0` (carried force `c0`) to
+/// `s1` (`c1`) under `scheme`. Returns the corrected end state and carry, and the number of
+/// extra force evaluations spent; pushes events to `out`.
+pub(crate) fn resolve<S: Scheme>(
+    scheme: &S,
+    frame: &StepFrame,
+    body: Particle,
+    (s0, c0): (BodyState, DVec3),
+    (s1, c1): (BodyState, DVec3),
+    out: &mut Vec<Event>,
+) -> (BodyState, DVec3, u64) {
+    match frame.contacts.detection {
+        Detection::Swept => resolve_swept(scheme, frame, body, (s0, c0), (s1, c1), out),
+        Detection::Discrete => {
+            let (s, c) = resolve_discrete(scheme, frame, body, s0, (s1, c1), out);
+            (s, c, if S::CARRIES_FORCE { S::EVALS } else { 0 })
+        }
+    }
+}
+
+fn resolve_swept<S: Scheme>(
+    scheme: &S,
+    frame: &StepFrame,
+    body: Particle,
+    (mut s, mut c): (BodyState, DVec3),
+    (mut end, mut end_c): (BodyState, DVec3),
+    out: &mut Vec<Event>,
+) -> (BodyState, DVec3, u64) {
+    let mut evals = 0u64;
+    let mut elapsed = 0.0; // time from the step start to the segment start
+    let mut remaining = frame.h;
+    let step = |s: BodyState, c: DVec3, tau: f64, evals: &mut u64| {
+        *evals += S::EVALS;
+        scheme.step(s, body.w, tau, c)
+    };
+    for _ in 0..MAX_IMPACTS_PER_STEP {
+        // Earliest surface crossing in this segment.
+        let mut first: Option<(f64, Plane)> = None;
+        for plane in planes(frame.contacts, s.p, body.r) {
+            let (d0, d1) = (plane.distance(s.p), plane.distance(end.p));
+            if d1 >= 0.0 {
+                continue;
+            }
+            if d0 <= TOUCHING * (1.0 + plane.offset.abs()) {
+                // Touching or inside at the segment start: only the ground (a half-space) acts
+                // at once; walls let a body that spawned inside pass.
+                if plane.surface == Surface::Ground {
+                    first = Some((0.0, plane));
+                    break;
+                }
+                if d0 < 0.0 {
+                    continue;
+                }
+            }
+            let (tau, n) = bracketed_root(
+                |tau| plane.distance(step(s, c, tau, &mut 0).0.p),
+                (0.0, d0),
+                (remaining, d1),
+            );
+            evals += n * S::EVALS;
+            if first.is_none_or(|(t, _)| tau < t) {
+                first = Some((tau, plane));
+            }
+        }
+        let cut = first.map_or(remaining, |(tau, _)| tau);
+        let at_cut = match first {
+            Some((tau, _)) if tau < remaining => step(s, c, tau, &mut evals),
+            _ => (end, end_c),
+        };
+        targets_on_segment(
+            scheme,
+            frame,
+            body,
+            elapsed,
+            (s, c),
+            cut,
+            at_cut.0,
+            out,
+            &mut evals,
+        );
+        let Some((tau, plane)) = first else {
+            return (end, end_c, evals);
+        };
+        (s, c) = at_cut;
+        // On the surface exactly (the root is on the outside by a few ulps).
+        s.p -= plane.distance(s.p).min(0.0) * plane.normal;
+        elapsed += tau;
+        remaining -= tau;
+        let mv_n = plane.normal.dot(s.mv);
+        let speed_in = -mv_n * body.w.inv;
+        let time = frame.t0 + elapsed;
+        if speed_in > 0.0 {
+            s.mv -= ((1.0 + plane.restitution) * mv_n) * plane.normal;
+            if speed_in * plane.restitution > frame.rest_speed {
+                out.push(Event {
+                    tick: frame.tick,
+                    time,
+                    body: body.id,
+                    kind: EventKind::Impact {
+                        surface: plane.surface,
+                        normal_speed: speed_in,
+                        depth: 0.0,
+                    },
+                });
+            } else {
+                if speed_in > frame.rest_speed * REST_MARGIN {
+                    out.push(Event {
+                        tick: frame.tick,
+                        time,
+                        body: body.id,
+                        kind: EventKind::Rest {
+                            surface: plane.surface,
+                        },
+                    });
+                }
+                let (s, c) = settle(scheme, body, plane, (s, c), remaining, &mut evals);
+                return (s, c, evals);
+            }
+        } else if -mv_n * body.w.inv <= frame.rest_speed && tau == 0.0 {
+            // Resting contact: slide along the surface for the rest of the step.
+            let (s, c) = settle(scheme, body, plane, (s, c), remaining, &mut evals);
+            return (s, c, evals);
+        }
+        (end, end_c) = step(s, c, remaining, &mut evals);
+    }
+    // Still bouncing after the cap (a body jittering in a corner): keep it outside every surface.
+    let (mut s, mut c) = (end, end_c);
+    clamp_outside(frame, body, &mut s);
+    if S::CARRIES_FORCE {
+        c = scheme.start_carry(s, body.w);
+        evals += S::EVALS;
+    }
+    (s, c, evals)
+}
+
+/// A body resting on `plane`: integrate the rest of the step with no normal momentum into the
+/// surface and clamp it onto the surface.
+fn settle<S: Scheme>(
+    scheme: &S,
+    body: Particle,
+    plane: Plane,
+    (mut s, c): (BodyState, DVec3),
+    remaining: f64,
+    evals: &mut u64,
+) -> (BodyState, DVec3) {
+    let mv_n = plane.normal.dot(s.mv);
+    s.mv -= mv_n * plane.normal;
+    let (mut end, mut end_c) = if remaining > 0.0 {
+        *evals += S::EVALS;
+        scheme.step(s, body.w, remaining, c)
+    } else {
+        (s, c)
+    };
+    let d = plane.distance(end.p);
+    if d < 0.0 {
+        end.p -= d * plane.normal;
+        if S::CARRIES_FORCE {
+            end_c = scheme.start_carry(end, body.w);
+            *evals += S::EVALS;
+        }
+    }
+    let mv_n = plane.normal.dot(end.mv);
+    if mv_n < 0.0 {
+        end.mv -= mv_n * plane.normal;
+    }
+    (end, end_c)
+}
+
+fn clamp_outside(frame: &StepFrame, body: Particle, s: &mut BodyState) {
+    if let Some(plane) = planes(frame.contacts, s.p, body.r).next()
+        && plane.surface == Surface::Ground
+    {
+        let d = plane.distance(s.p);
+        if d < 0.0 {
+            s.p -= d * plane.normal;
+            let mv_n = plane.normal.dot(s.mv);
+            s.mv -= mv_n.min(0.0) * plane.normal;
+        }
+    }
+}
+
+/// Looks for target entries and closest approaches on the segment from `a` over `duration` to
+/// `b`. The distance to a target's centre along the segment falls while `(p - c) . V < 0`, so
+/// its minimum is at the sign change of that rate (if inside the segment) or at an end.
+#[allow(clippy::too_many_arguments)]
+fn targets_on_segment<S: Scheme>(
+    scheme: &S,
+    frame: &StepFrame,
+    body: Particle,
+    elapsed: f64,
+    (a, ca): (BodyState, DVec3),
+    duration: f64,
+    b: BodyState,
+    out: &mut Vec<Event>,
+    evals: &mut u64,
+) {
+    let path = |tau: f64| scheme.step(a, body.w, tau, ca).0;
+    for (i, target) in frame.contacts.targets.iter().enumerate() {
+        let reach = target.radius + body.r;
+        let gap = |s: &BodyState| (s.p - target.center).length() - reach;
+        let (g0, g1) = (
+            approach_rate(target, &a, body.w.inv),
+            approach_rate(target, &b, body.w.inv),
+        );
+        // Where along the segment the distance is smallest.
+        let (tau_min, closest) = if g0 < 0.0 && g1 >= 0.0 {
+            let (tau, n) = bracketed_root(
+                |tau| approach_rate(target, &path(tau), body.w.inv),
+                (0.0, g0),
+                (duration, g1),
+            );
+            *evals += (n + 1) * S::EVALS;
+            (Some(tau), path(tau))
+        } else if g1 < 0.0 {
+            (None, b)
+        } else {
+            (None, a)
+        };
+        let gap_min = gap(&closest);
+        let gap0 = gap(&a);
+        if gap0 > 0.0 && gap_min <= 0.0 {
+            let end = tau_min.unwrap_or(duration);
+            let (tau_hit, n) = bracketed_root(|tau| gap(&path(tau)), (0.0, gap0), (end, gap_min));
+            *evals += n * S::EVALS;
+            out.push(Event {
+                tick: frame.tick,
+                time: frame.t0 + elapsed + tau_hit,
+                body: body.id,
+                kind: EventKind::Hit { target: i as u32 },
+            });
+        }
+        if let Some(tau) = tau_min {
+            out.push(Event {
+                tick: frame.tick,
+                time: frame.t0 + elapsed + tau,
+                body: body.id,
+                kind: EventKind::Approach {
+                    target: i as u32,
+                    distance: gap_min + reach,
+                    hit: gap_min <= 0.0,
+                },
+            });
+        }
+    }
+}
+
+fn resolve_discrete<S: Scheme>(
+    scheme: &S,
+    frame: &StepFrame,
+    body: Particle,
+    s0: BodyState,
+    (mut s, mut c): (BodyState, DVec3),
+    out: &mut Vec<Event>,
+) -> (BodyState, DVec3) {
+    let t_end = frame.t0 + frame.h;
+    let mut moved = false;
+    for plane in planes(frame.contacts, s0.p, body.r) {
+        let d = plane.distance(s.p);
+        let inside = match plane.surface {
+            Surface::Ground => d < 0.0,
+            // Overlapping the slab now: |distance to the mid-plane| below half thickness + r.
+            Surface::Wall(i) => {
+                let w = &frame.contacts.walls[i as usize];
+                w.normal.dot(s.p - w.point).abs() < 0.5 * w.thickness + body.r
+            }
+        };
+        if !inside {
+            continue;
+        }
+        let mv_n = plane.normal.dot(s.mv);
+        s.p -= d * plane.normal;
+        moved = true;
+        if mv_n < 0.0 {
+            s.mv -= ((1.0 + plane.restitution) * mv_n) * plane.normal;
+            out.push(Event {
+                tick: frame.tick,
+                time: t_end,
+                body: body.id,
+                kind: EventKind::Impact {
+                    surface: plane.surface,
+                    normal_speed: -mv_n * body.w.inv,
+                    depth: -d,
+                },
+            });
+        }
+    }
+    if moved && S::CARRIES_FORCE {
+        c = scheme.start_carry(s, body.w);
+    }
+    for (i, target) in frame.contacts.targets.iter().enumerate() {
+        let reach = target.radius + body.r;
+        let (d0, d1) = (
+            (s0.p - target.center).length(),
+            (s.p - target.center).length(),
+        );
+        if d1 <= reach && d0 > reach {
+            out.push(Event {
+                tick: frame.tick,
+                time: t_end,
+                body: body.id,
+                kind: EventKind::Hit { target: i as u32 },
+            });
+        }
+    }
+    (s, c)
+}
+
+/// Finds a root of `f` between `lo.0` and `hi.0`, where `f(lo.0) = lo.1` and `f(hi.0) = hi.1`
+/// have opposite signs (`>= 0` counts as positive). Illinois regula falsi with a bisection every
+/// fourth step, so it converges superlinearly on smooth functions and never slower than
+/// bisection. Returns the point on `lo`'s side of the root (for a contact: not yet touching)
+/// within a few ulps, and the number of evaluations of `f`.
+pub(crate) fn bracketed_root(
+    mut f: impl FnMut(f64) -> f64,
+    lo: (f64, f64),
+    hi: (f64, f64),
+) -> (f64, u64) {
+    let ((mut a, mut fa), (mut b, mut fb)) = (lo, hi);
+    let positive_at_a = fa >= 0.0;
+    // Absolute floor of the tolerance, so a root at 0 ends the search too.
+    let floor = 1e-3 * (b - a).abs();
+    let mut evals = 0;
+    let mut last_side = 0i8;
+    for i in 0..400 {
+        let width = b - a;
+        if width.abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs()).max(floor) {
+            break;
+        }
+        let mut x = if i % 4 == 3 {
+            0.5 * (a + b)
+        } else {
+            (a * fb - b * fa) / (fb - fa)
+        };
+        if !((x > a.min(b)) && (x < a.max(b))) {
+            x = 0.5 * (a + b);
+        }
+        let fx = f(x);
+        evals += 1;
+        if (fx >= 0.0) == positive_at_a {
+            a = x;
+            fa = fx;
+            if last_side == -1 {
+                fb *= 0.5;
+            }
+            last_side = -1;
+        } else {
+            b = x;
+            fb = fx;
+            if last_side == 1 {
+                fa *= 0.5;
+            }
+            last_side = 1;
+        }
+    }
+    (a, evals)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn root_finder_converges_to_ulps_on_a_quadratic() {
+        // z(t) = 2 + 29 t - 4.905 t^2 crosses zero at t = (29 + sqrt(29^2 + 4 * 4.905 * 2)) / 9.81.
+        let exact = (29.0 + (29.0f64 * 29.0 + 4.0 * 4.905 * 2.0).sqrt()) / 9.81;
+        let z = |t: f64| 2.0 + 29.0 * t - 4.905 * t * t;
+        let (root, evals) = bracketed_root(z, (1.0, z(1.0)), (10.0, z(10.0)));
+        assert!((root - exact).abs() < 1e-14, "{root} vs {exact}");
+        assert!(z(root) >= 0.0, "the returned point is on the lo side");
+        assert!(evals < 60, "{evals} evaluations");
+    }
+}

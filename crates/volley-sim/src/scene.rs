@@ -1,0 +1,720 @@
+//! Scene files (RON) to a validated [`Scene`]: pure data, every value checked, errors located.
+//!
+//! The format is documented in the docs/scenes.md. Syntax and type errors carry the
+//! file, line and column from the RON parser; value errors name the field path
+//! (`bodies[1].mass`) and what was expected. Nothing here panics on any input.
+
+use std::path::Path;
+use std::time::Duration;
+
+use glam::DVec3;
+use serde::Deserialize;
+
+use crate::contact::{Detection, Ground, Target, Wall};
+use crate::exact::{Arc, aim};
+use crate::forces::{ForceKind, Forces, PointMass, Spring};
+use crate::integrate::Integrator;
+
+mod bundled;
+pub use bundled::{BUNDLED, bundled};
+
+/// Most integrator steps per tick a scene may ask for: beyond this a stiff scene wants implicit
+/// Euler, and a typo should not make a run take forever.
+pub const MAX_SUBSTEPS: u32 = 10_000;
+/// Most bodies a `volley` may spawn (about 1 GB of state): a typo should be an error, not an
+/// allocation failure.
+pub const MAX_VOLLEY: u32 = 10_000_000;
+
+/// A scene after parsing and validation; everything a [`crate::World`] is built from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// Short name (defaults to the file stem).
+    pub name: String,
+    /// One line on what the scene shows.
+    pub description: String,
+    /// The scene file's text, verbatim (recordings embed it).
+    pub source: String,
+    /// Fixed timestep, in whole nanoseconds; the physics step `h` is exactly this.
+    pub timestep: Duration,
+    /// Sim time (s) of tick 0; the time of tick n is `start_time + n * h`.
+    pub start_time: f64,
+    /// Sim time (s) a headless run covers unless told otherwise (default 10 s).
+    pub duration: f64,
+    /// Integrator unless a run overrides it.
+    pub integrator: Integrator,
+    /// Integrator steps per tick (each `h / substeps` long). 1 unless stiffness asks for more.
+    pub substeps: u32,
+    /// Declared force terms.
+    pub forces: Forces,
+    /// Ground plane, if any.
+    pub ground: Option<Ground>,
+    /// Thin walls (slabs).
+    pub walls: Vec<Wall>,
+    /// Target spheres.
+    pub targets: Vec<Target>,
+    /// Swept (time of impact inside the step) or discrete (overlap at the end of the step).
+    pub detection: Detection,
+    /// Bodies present at tick 0, in id order.
+    pub bodies: Vec<BodySpec>,
+    /// Where fired projectiles start and how they are launched.
+    pub launcher: Launcher,
+    /// Extra bodies fired at tick 0 from the launcher with seeded random spread.
+    pub volley: Option<Volley>,
+    /// Seed of the world's random number generator.
+    pub seed: u64,
+    /// Divergence guard settings.
+    pub guard: Guard,
+}
+
+impl Scene {
+    /// Overrides the integrator, refusing `exact` where a declared force has no closed form.
+    pub fn set_integrator(&mut self, integrator: Integrator) -> Result<(), String> {
+        check_integrator(integrator, &self.forces)?;
+        self.integrator = integrator;
+        Ok(())
+    }
+
+    /// Overrides the timestep (s), rounded to whole nanoseconds.
+    pub fn set_dt(&mut self, dt: f64) -> Result<(), String> {
+        self.timestep = timestep_from_secs("dt", dt).map_err(|(f, m)| format!("{f}: {m}"))?;
+        Ok(())
+    }
+
+    /// Overrides the substeps per tick (at least 1).
+    pub fn set_substeps(&mut self, substeps: u32) -> Result<(), String> {
+        if !(1..=MAX_SUBSTEPS).contains(&substeps) {
+            return Err(format!(
+                "substeps: expected 1 to {MAX_SUBSTEPS}, got {substeps}"
+            ));
+        }
+        self.substeps = substeps;
+        Ok(())
+    }
+
+    /// The physics step h (s): the timestep's nanoseconds over 1e9.
+    pub fn dt(&self) -> f64 {
+        self.timestep.as_nanos() as f64 * 1e-9
+    }
+
+    /// Ticks from `start_time` to sim time `t`: `(t - start_time) / h`, rounded when within
+    /// 1e-9 of a whole number (so `--until 10.4` at h = 0.2 from 5.0 is 27 ticks, not 28),
+    /// rounded up otherwise. Negative spans give 0.
+    pub fn ticks_until(&self, t: f64) -> u64 {
+        let n = (t - self.start_time) / self.dt();
+        if n.is_nan() || n <= 0.0 {
+            return 0;
+        }
+        let nearest = n.round();
+        let ticks = if (n - nearest).abs() <= 1e-9 * nearest.max(1.0) {
+            nearest
+        } else {
+            n.ceil()
+        };
+        ticks.min(u64::MAX as f64) as u64
+    }
+}
+
+/// A body at spawn: mass, size and initial state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodySpec {
+    /// Mass (kg), > 0.
+    pub mass: f64,
+    /// Radius (m), >= 0; used by contacts and targets and for drawing.
+    pub radius: f64,
+    /// Initial position (m).
+    pub position: DVec3,
+    /// Initial velocity (m/s), resolved from the scene's launch description.
+    pub velocity: DVec3,
+}
+
+/// The launcher the window's fire button and `Fire` commands use.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Launcher {
+    /// Muzzle position (m).
+    pub position: DVec3,
+    /// Launch speed (m/s).
+    pub speed: f64,
+    /// Elevation above the horizontal (degrees).
+    pub elevation_deg: f64,
+    /// Azimuth from +x towards +y (degrees).
+    pub azimuth_deg: f64,
+    /// Mass of a fired projectile (kg).
+    #[serde(default = "one")]
+    pub mass: f64,
+    /// Radius of a fired projectile (m).
+    #[serde(default = "tenth")]
+    pub radius: f64,
+}
+
+impl Launcher {
+    /// Launch velocity (m/s) from speed, elevation and azimuth.
+    pub fn velocity(&self) -> DVec3 {
+        angles_to_velocity(self.speed, self.elevation_deg, self.azimuth_deg)
+    }
+}
+
+/// Many projectiles fired at once from the launcher, spread by the world's seeded generator.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Volley {
+    /// How many.
+    pub count: u32,
+    /// Uniform spread of launch speed, +- (m/s).
+    #[serde(default)]
+    pub speed_spread: f64,
+    /// Uniform spread of elevation and azimuth, +- (degrees).
+    #[serde(default)]
+    pub angle_spread_deg: f64,
+}
+
+/// Settings of the divergence guard (see [`crate::step`]).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Guard {
+    /// A body whose energy exceeds its start energy by more than `(energy_factor - 1)` times its
+    /// start energy scale stops the run. Every force term conserves or dissipates energy, so only
+    /// a numerical instability can trip it. Default 10 (the reference's "10x its start").
+    pub energy_factor: f64,
+    /// Check energy every this many ticks; 0 turns the energy check off (the non-finite check
+    /// always runs). Default 1.
+    pub every: u32,
+}
+
+impl Default for Guard {
+    fn default() -> Self {
+        Guard {
+            energy_factor: 10.0,
+            every: 1,
+        }
+    }
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn tenth() -> f64 {
+    0.1
+}
+
+/// Velocity from speed (m/s), elevation and azimuth (degrees), z up.
+pub fn angles_to_velocity(speed: f64, elevation_deg: f64, azimuth_deg: f64) -> DVec3 {
+    let (el, az) = (elevation_deg.to_radians(), azimuth_deg.to_radians());
+    let horizontal = speed * libm::cos(el);
+    DVec3::new(
+        horizontal * libm::cos(az),
+        horizontal * libm::sin(az),
+        speed * libm::sin(el),
+    )
+}
+
+/// An error in a scene file: where, and what was expected.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    /// The file (or a label for in-memory text).
+    pub file: String,
+    /// Line and column (1-based) for syntax and type errors.
+    pub position: Option<(usize, usize)>,
+    /// Field path for value errors, e.g. `bodies[0].mass`.
+    pub field: Option<String>,
+    /// What is wrong and what was expected.
+    pub message: String,
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.file)?;
+        if let Some((line, col)) = self.position {
+            write!(f, ":{line}:{col}")?;
+        }
+        if let Some(field) = &self.field {
+            write!(f, ": {field}")?;
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// One force term as written in a scene file.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+enum ForceTerm {
+    Gravity(DVec3),
+    ConstantForce(DVec3),
+    LinearDrag(f64),
+    QuadraticDrag(f64),
+    Spring {
+        anchor: DVec3,
+        stiffness: f64,
+        #[serde(default)]
+        rest_length: f64,
+        #[serde(default)]
+        damping: f64,
+    },
+    PointMass {
+        center: DVec3,
+        mu: f64,
+    },
+}
+
+impl ForceTerm {
+    fn kind(&self) -> ForceKind {
+        match self {
+            ForceTerm::Gravity(_) => ForceKind::Gravity,
+            ForceTerm::ConstantForce(_) => ForceKind::ConstantForce,
+            ForceTerm::LinearDrag(_) => ForceKind::LinearDrag,
+            ForceTerm::QuadraticDrag(_) => ForceKind::QuadraticDrag,
+            ForceTerm::Spring { .. } => ForceKind::Spring,
+            ForceTerm::PointMass { .. } => ForceKind::PointMass,
+        }
+    }
+}
+
+/// A launch as written in a scene file.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+enum Launch {
+    Velocity(DVec3),
+    Angles {
+        speed: f64,
+        elevation_deg: f64,
+        #[serde(default)]
+        azimuth_deg: f64,
+    },
+    Aim {
+        target: DVec3,
+        speed: f64,
+        arc: Arc,
+    },
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBody {
+    mass: f64,
+    #[serde(default = "tenth")]
+    radius: f64,
+    position: DVec3,
+    #[serde(default = "at_rest")]
+    launch: Launch,
+}
+
+fn at_rest() -> Launch {
+    Launch::Velocity(DVec3::ZERO)
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Scene")]
+struct RawScene {
+    #[serde(default)]
+    name: Option<String>,
+    #[serde(default)]
+    description: String,
+    dt: f64,
+    #[serde(default)]
+    start_time: f64,
+    #[serde(default = "ten")]
+    duration: f64,
+    integrator: Integrator,
+    #[serde(default = "one_u32")]
+    substeps: u32,
+    #[serde(default)]
+    forces: Vec<ForceTerm>,
+    #[serde(default)]
+    ground: Option<Ground>,
+    #[serde(default)]
+    walls: Vec<Wall>,
+    #[serde(default)]
+    targets: Vec<Target>,
+    #[serde(default)]
+    detection: Detection,
+    #[serde(default)]
+    bodies: Vec<RawBody>,
+    #[serde(default)]
+    launcher: Option<Launcher>,
+    #[serde(default)]
+    volley: Option<Volley>,
+    #[serde(default)]
+    seed: u64,
+    #[serde(default)]
+    guard: Guard,
+}
+
+fn one_u32() -> u32 {
+    1
+}
+
+fn ten() -> f64 {
+    10.0
+}
+
+/// Reads and validates a scene file.
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        file: file.clone(),
+        position: None,
+        field: None,
+        message: format!("cannot read: {e}"),
+    })?;
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned());
+    parse(&text, &file, stem.as_deref().unwrap_or("scene"))
+}
+
+/// Parses and validates scene text; `file` labels errors, `default_name` is used if the scene
+/// has no `name`.
+pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Scene, SceneError> {
+    let options =
+        ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let raw: RawScene = options.from_str(text).map_err(|e| SceneError {
+        file: file.to_string(),
+        position: Some((e.span.start.line, e.span.start.col)),
+        field: None,
+        message: e.code.to_string(),
+    })?;
+    let invalid = |field: String, message: String| SceneError {
+        file: file.to_string(),
+        position: None,
+        field: Some(field),
+        message,
+    };
+    validate(raw, text, default_name).map_err(|(field, message)| invalid(field, message))
+}
+
+type Invalid = (String, String);
+
+fn finite(field: &str, x: f64) -> Result<f64, Invalid> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err((field.into(), format!("expected a finite number, got {x}")))
+    }
+}
+
+fn positive(field: &str, x: f64) -> Result<f64, Invalid> {
+    if x.is_finite() && x > 0.0 {
+        Ok(x)
+    } else {
+        Err((
+            field.into(),
+            format!("expected a finite number > 0, got {x}"),
+        ))
+    }
+}
+
+fn non_negative(field: &str, x: f64) -> Result<f64, Invalid> {
+    if x.is_finite() && x >= 0.0 {
+        Ok(x)
+    } else {
+        Err((
+            field.into(),
+            format!("expected a finite number >= 0, got {x}"),
+        ))
+    }
+}
+
+fn unit_interval(field: &str, x: f64) -> Result<f64, Invalid> {
+    if (0.0..=1.0).contains(&x) {
+        Ok(x)
+    } else {
+        Err((
+            field.into(),
+            format!("expected a number from 0 to 1, got {x}"),
+        ))
+    }
+}
+
+fn finite3(field: &str, v: DVec3) -> Result<DVec3, Invalid> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err((field.into(), format!("expected finite components, got {v}")))
+    }
+}
+
+/// Converts a step in seconds to whole nanoseconds, the clock's unit.
+pub fn timestep_from_secs(field: &str, dt: f64) -> Result<Duration, Invalid> {
+    let dt = positive(field, dt)?;
+    let nanos = (dt * 1e9).round();
+    if !(1.0..=1e12).contains(&nanos) {
+        return Err((
+            field.into(),
+            format!("expected a step from 1 ns to 1000 s, got {dt} s"),
+        ));
+    }
+    Ok(Duration::from_nanos(nanos as u64))
+}
+
+fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Invalid> {
+    let timestep = timestep_from_secs("dt", raw.dt)?;
+    let start_time = finite("start_time", raw.start_time)?;
+    let duration = non_negative("duration", raw.duration)?;
+    let integrator = raw.integrator;
+    if !(1..=MAX_SUBSTEPS).contains(&raw.substeps) {
+        return Err((
+            "substeps".into(),
+            format!("expected 1 to {MAX_SUBSTEPS}, got {}", raw.substeps),
+        ));
+    }
+    let forces = validate_forces(&raw.forces)?;
+    check_integrator(integrator, &forces).map_err(|m| ("integrator".to_string(), m))?;
+    let ground = raw
+        .ground
+        .map(|g| -> Result<Ground, Invalid> {
+            finite("ground.height", g.height)?;
+            unit_interval("ground.restitution", g.restitution)?;
+            Ok(g)
+        })
+        .transpose()?;
+    let walls = raw
+        .walls
+        .iter()
+        .enumerate()
+        .map(|(i, w)| validate_wall(i, w))
+        .collect::<Result<Vec<_>, _>>()?;
+    for (i, t) in raw.targets.iter().enumerate() {
+        finite3(&format!("targets[{i}].center"), t.center)?;
+        positive(&format!("targets[{i}].radius"), t.radius)?;
+    }
+    let bodies = raw
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(i, b)| validate_body(i, b, &forces))
+        .collect::<Result<Vec<_>, _>>()?;
+    let launcher = match raw.launcher {
+        Some(l) => validate_launcher(l)?,
+        None => default_launcher(bodies.first()),
+    };
+    if let Some(v) = raw.volley {
+        if v.count > MAX_VOLLEY {
+            return Err((
+                "volley.count".into(),
+                format!("expected at most {MAX_VOLLEY} bodies, got {}", v.count),
+            ));
+        }
+        non_negative("volley.speed_spread", v.speed_spread)?;
+        non_negative("volley.angle_spread_deg", v.angle_spread_deg)?;
+    }
+    if !(raw.guard.energy_factor.is_finite() && raw.guard.energy_factor > 1.0) {
+        return Err((
+            "guard.energy_factor".into(),
+            format!(
+                "expected a finite number > 1, got {}",
+                raw.guard.energy_factor
+            ),
+        ));
+    }
+    Ok(Scene {
+        name: raw.name.unwrap_or_else(|| default_name.to_string()),
+        description: raw.description,
+        source: text.to_string(),
+        timestep,
+        start_time,
+        duration,
+        integrator,
+        substeps: raw.substeps,
+        forces,
+        ground,
+        walls,
+        targets: raw.targets,
+        detection: raw.detection,
+        bodies,
+        launcher,
+        volley: raw.volley,
+        seed: raw.seed,
+        guard: raw.guard,
+    })
+}
+
+/// Refuses `exact` for forces without a closed form, naming the force.
+pub fn check_integrator(integrator: Integrator, forces: &Forces) -> Result<(), String> {
+    match (integrator, forces.without_closed_form()) {
+        (Integrator::Exact, Some(kind)) => Err(format!(
+            "`exact` needs a closed form, and force term {} has none (exact covers Gravity, \
+             ConstantForce and LinearDrag); choose another integrator",
+            kind.name()
+        )),
+        _ => Ok(()),
+    }
+}
+
+fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, Invalid> {
+    let mut forces = Forces::default();
+    for (i, term) in terms.iter().enumerate() {
+        let field = format!("forces[{i}]");
+        if forces.has(term.kind()) {
+            return Err((
+                field,
+                format!(
+                    "{} is declared twice; declare each term once",
+                    term.kind().name()
+                ),
+            ));
+        }
+        match *term {
+            ForceTerm::Gravity(g) => forces.gravity = Some(finite3(&field, g)?),
+            ForceTerm::ConstantForce(f) => forces.constant = Some(finite3(&field, f)?),
+            ForceTerm::LinearDrag(b) => forces.linear_drag = Some(non_negative(&field, b)?),
+            ForceTerm::QuadraticDrag(c) => forces.quadratic_drag = Some(non_negative(&field, c)?),
+            ForceTerm::Spring {
+                anchor,
+                stiffness,
+                rest_length,
+                damping,
+            } => {
+                forces.spring = Some(Spring {
+                    anchor: finite3(&format!("{field}.anchor"), anchor)?,
+                    stiffness: non_negative(&format!("{field}.stiffness"), stiffness)?,
+                    rest_length: non_negative(&format!("{field}.rest_length"), rest_length)?,
+                    damping: non_negative(&format!("{field}.damping"), damping)?,
+                });
+            }
+            ForceTerm::PointMass { center, mu } => {
+                forces.point_mass = Some(PointMass {
+                    center: finite3(&format!("{field}.center"), center)?,
+                    mu: positive(&format!("{field}.mu"), mu)?,
+                });
+            }
+        }
+    }
+    Ok(forces)
+}
+
+fn validate_wall(i: usize, w: &Wall) -> Result<Wall, Invalid> {
+    finite3(&format!("walls[{i}].point"), w.point)?;
+    let n = finite3(&format!("walls[{i}].normal"), w.normal)?;
+    let unit = n.try_normalize().ok_or_else(|| {
+        (
+            format!("walls[{i}].normal"),
+            "expected a non-zero vector".to_string(),
+        )
+    })?;
+    positive(&format!("walls[{i}].thickness"), w.thickness)?;
+    unit_interval(&format!("walls[{i}].restitution"), w.restitution)?;
+    Ok(Wall { normal: unit, ..*w })
+}
+
+fn validate_body(i: usize, b: &RawBody, forces: &Forces) -> Result<BodySpec, Invalid> {
+    let at = |f: &str| format!("bodies[{i}].{f}");
+    let mass = positive(&at("mass"), b.mass)?;
+    let radius = non_negative(&at("radius"), b.radius)?;
+    let position = finite3(&at("position"), b.position)?;
+    let velocity = match b.launch {
+        Launch::Velocity(v) => finite3(&at("launch"), v)?,
+        Launch::Angles {
+            speed,
+            elevation_deg,
+            azimuth_deg,
+        } => {
+            non_negative(&at("launch.speed"), speed)?;
+            finite(&at("launch.elevation_deg"), elevation_deg)?;
+            finite(&at("launch.azimuth_deg"), azimuth_deg)?;
+            angles_to_velocity(speed, elevation_deg, azimuth_deg)
+        }
+        Launch::Aim { target, speed, arc } => {
+            finite3(&at("launch.target"), target)?;
+            positive(&at("launch.speed"), speed)?;
+            let g = forces.gravity.unwrap_or(DVec3::ZERO);
+            if g.x != 0.0 || g.y != 0.0 || g.z >= 0.0 {
+                return Err((
+                    at("launch"),
+                    "Aim needs a Gravity term pointing along -z".to_string(),
+                ));
+            }
+            let [high, low] = aim(position, target, speed, -g.z)
+                .map_err(|e| (at("launch"), format!("cannot aim: {e}")))?;
+            match arc {
+                Arc::High => high.velocity,
+                Arc::Low => low.velocity,
+            }
+        }
+    };
+    Ok(BodySpec {
+        mass,
+        radius,
+        position,
+        velocity,
+    })
+}
+
+fn validate_launcher(l: Launcher) -> Result<Launcher, Invalid> {
+    finite3("launcher.position", l.position)?;
+    non_negative("launcher.speed", l.speed)?;
+    finite("launcher.elevation_deg", l.elevation_deg)?;
+    finite("launcher.azimuth_deg", l.azimuth_deg)?;
+    positive("launcher.mass", l.mass)?;
+    non_negative("launcher.radius", l.radius)?;
+    Ok(l)
+}
+
+/// The launcher implied by the first body (its position, mass, size and launch), or a 20 m/s,
+/// 45 degree launcher at the origin for a scene without bodies.
+fn default_launcher(first: Option<&BodySpec>) -> Launcher {
+    match first {
+        Some(b) => {
+            let v = b.velocity;
+            let horizontal = (v.x * v.x + v.y * v.y).sqrt();
+            Launcher {
+                position: b.position,
+                speed: v.length(),
+                elevation_deg: libm::atan2(v.z, horizontal).to_degrees(),
+                azimuth_deg: libm::atan2(v.y, v.x).to_degrees(),
+                mass: b.mass,
+                radius: b.radius,
+            }
+        }
+        None => Launcher {
+            position: DVec3::ZERO,
+            speed: 20.0,
+            elevation_deg: 45.0,
+            azimuth_deg: 0.0,
+            mass: 1.0,
+            radius: 0.1,
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MINIMAL: &str =
+        r#"Scene(dt: 0.01, integrator: Rk4, bodies: [(mass: 1, position: (0, 0, 1))])"#;
+
+    #[test]
+    fn a_minimal_scene_parses_with_defaults() {
+        let scene = parse(MINIMAL, "mem.ron", "mem").unwrap();
+        assert_eq!(scene.timestep, Duration::from_millis(10));
+        assert_eq!(scene.integrator, Integrator::Rk4);
+        assert_eq!(scene.bodies[0].radius, 0.1);
+        assert_eq!(scene.name, "mem");
+    }
+
+    #[test]
+    fn syntax_errors_carry_line_and_column() {
+        let err = parse(
+            "Scene(\n  dt: 0.1,\n  integrator: Rk4\n  bodies: [],\n)",
+            "x.ron",
+            "x",
+        )
+        .unwrap_err();
+        assert_eq!(err.file, "x.ron");
+        assert_eq!(err.position.map(|p| p.0), Some(4), "{err}");
+    }
+
+    #[test]
+    fn value_errors_name_the_field() {
+        let text = MINIMAL.replace("mass: 1", "mass: -1");
+        let err = parse(&text, "x.ron", "x").unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("bodies[0].mass"), "{err}");
+        let err = parse(&MINIMAL.replace("0.01", "NaN"), "x.ron", "x").unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("dt"), "{err}");
+    }
+
+    #[test]
+    fn exact_is_refused_with_the_force_that_has_no_closed_form() {
+        let text = r#"Scene(dt: 0.01, integrator: Exact, forces: [Gravity((0,0,-9.81)), QuadraticDrag(0.1)])"#;
+        let err = parse(text, "x.ron", "x").unwrap_err();
+        assert!(err.message.contains("QuadraticDrag"), "{err}");
+    }
+}

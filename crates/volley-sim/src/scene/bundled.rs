@@ -1,0 +1,127 @@
+//! The bundled scenes (`assets/scenes/`), compiled into the crate so that a game or a test can
+//! step one without knowing where the repository is.
+
+use super::{Scene, SceneError, parse};
+
+/// Every bundled scene as `(name, RON text)`, by name (`seed`, `hard/stiff_spring`, ...), in the
+/// order of their paths under `assets/scenes/`.
+pub const BUNDLED: &[(&str, &str)] = &[
+    (
+        "bench/drag",
+        include_str!("../../../../assets/scenes/bench/drag.ron"),
+    ),
+    (
+        "bench/gravity",
+        include_str!("../../../../assets/scenes/bench/gravity.ron"),
+    ),
+    (
+        "bounce",
+        include_str!("../../../../assets/scenes/bounce.ron"),
+    ),
+    ("drag", include_str!("../../../../assets/scenes/drag.ron")),
+    (
+        "drag_masses",
+        include_str!("../../../../assets/scenes/drag_masses.ron"),
+    ),
+    (
+        "hard/bounce",
+        include_str!("../../../../assets/scenes/hard/bounce.ron"),
+    ),
+    (
+        "hard/far_from_origin",
+        include_str!("../../../../assets/scenes/hard/far_from_origin.ron"),
+    ),
+    (
+        "hard/ground_impact",
+        include_str!("../../../../assets/scenes/hard/ground_impact.ron"),
+    ),
+    (
+        "hard/hitch",
+        include_str!("../../../../assets/scenes/hard/hitch.ron"),
+    ),
+    (
+        "hard/long_orbit",
+        include_str!("../../../../assets/scenes/hard/long_orbit.ron"),
+    ),
+    (
+        "hard/one_hour",
+        include_str!("../../../../assets/scenes/hard/one_hour.ron"),
+    ),
+    (
+        "hard/stiff_spring",
+        include_str!("../../../../assets/scenes/hard/stiff_spring.ron"),
+    ),
+    (
+        "hard/stiff_spring_1e5",
+        include_str!("../../../../assets/scenes/hard/stiff_spring_1e5.ron"),
+    ),
+    (
+        "hard/strong_drag",
+        include_str!("../../../../assets/scenes/hard/strong_drag.ron"),
+    ),
+    (
+        "hard/tunnelling",
+        include_str!("../../../../assets/scenes/hard/tunnelling.ron"),
+    ),
+    ("orbit", include_str!("../../../../assets/scenes/orbit.ron")),
+    ("seed", include_str!("../../../../assets/scenes/seed.ron")),
+    (
+        "spring",
+        include_str!("../../../../assets/scenes/spring.ron"),
+    ),
+    (
+        "volley",
+        include_str!("../../../../assets/scenes/volley.ron"),
+    ),
+    ("wind", include_str!("../../../../assets/scenes/wind.ron")),
+];
+
+/// The bundled scene `name` (`seed`, `hard/stiff_spring`), parsed and validated; `None` if no
+/// bundled scene has that name.
+///
+/// ```
+/// let scene = volley_sim::scene::bundled("seed").unwrap().unwrap();
+/// assert_eq!(scene.name, "seed");
+/// assert!(volley_sim::scene::bundled("no_such_scene").is_none());
+/// ```
+pub fn bundled(name: &str) -> Option<Result<Scene, SceneError>> {
+    let (_, text) = BUNDLED.iter().find(|(n, _)| *n == name)?;
+    let stem = name.rsplit('/').next().unwrap_or(name);
+    Some(parse(text, &format!("assets/scenes/{name}.ron"), stem))
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    /// The list is the folder: a scene added to `assets/scenes/` without a line here fails.
+    #[test]
+    fn every_scene_file_is_bundled_and_parses() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes");
+        let mut on_disk = Vec::new();
+        let mut dirs = vec![root.clone()];
+        while let Some(dir) = dirs.pop() {
+            for entry in std::fs::read_dir(&dir).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    dirs.push(path);
+                } else if path.extension().is_some_and(|e| e == "ron") {
+                    let rel = path.strip_prefix(&root).unwrap().with_extension("");
+                    on_disk.push(rel.to_string_lossy().replace('\\', "/"));
+                }
+            }
+        }
+        on_disk.sort();
+        let listed: Vec<String> = super::BUNDLED.iter().map(|(n, _)| n.to_string()).collect();
+        assert_eq!(listed, on_disk);
+        for (name, text) in super::BUNDLED {
+            let from_disk = std::fs::read_to_string(root.join(format!("{name}.ron"))).unwrap();
+            assert_eq!(*text, from_disk, "{name}");
+            let scene = super::bundled(name)
+                .unwrap()
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let loaded = super::super::load(&root.join(format!("{name}.ron"))).unwrap();
+            assert_eq!(scene.name, loaded.name, "{name}");
+        }
+    }
+}

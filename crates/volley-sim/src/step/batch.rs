@@ -1,0 +1,197 @@
+//! Many ticks of a world without contacts, block by block while each block sits in cache, with
+//! the state saved first so a batch that diverges is undone and run again tick by tick.
+
+use crate::contact::{Event, StepFrame};
+use crate::integrate::{Scheme, SchemeVisitor, visit};
+use crate::world::World;
+
+use super::guard::{Guard, lanes_over_cap};
+use super::kernel::{fill_carry, run};
+use super::lanes::{Fixed, Lanes};
+
+/// Bodies per block of a batch: with their backup (about 136 bytes a body) a block stays in
+/// the L2 cache while it runs every tick of the batch.
+pub const BATCH_BLOCK: usize = 2048;
+
+/// The longest batch [`World::step_ticks`] runs: long enough that saving the state (one write
+/// of 48 bytes a body per batch) costs little, short enough that undoing a batch that diverged
+/// costs little.
+pub const BATCH_MAX_TICKS: u64 = 64;
+
+impl World {
+    /// Runs `ticks` ticks of a world without contacts block by block; returns false, with the
+    /// state, the carried force and the counters as they were, if a body turned non-finite or
+    /// passed its energy bound at a tick the guard checks.
+    pub(super) fn integrate_batch(&mut self, ticks: u64) -> bool {
+        self.events.clear();
+        let (chunks, carries) = self.prepare_chunks();
+        let n = self.bodies.len();
+        let t0 = self.time_of(self.tick);
+        let saved = &mut self.batch_backup;
+        saved.p.resize(n);
+        saved.mv.resize(n);
+        saved.carry.resize(if carries { n } else { 0 });
+        let h = self.h / f64::from(self.substeps);
+        let frame = StepFrame {
+            contacts: &self.contacts,
+            tick: self.tick + 1,
+            t0,
+            h,
+            rest_speed: 0.0,
+        };
+        let b = &mut self.bodies;
+        let fixed = Fixed {
+            ids: &b.id,
+            mass: &b.mass,
+            inv_mass: &b.inv_mass,
+            radius: &b.radius,
+        };
+        let lanes = fixed.lanes(&mut b.p, &mut b.mv, &mut self.carry, carries);
+        let saved_lanes = fixed.lanes(&mut saved.p, &mut saved.mv, &mut saved.carry, carries);
+        // The guard's test, on the model `guard_energy` uses, so it trips exactly where it would.
+        let (caps, forces) = (&b.energy_cap[..], &self.forces);
+        let field = forces.constant_field();
+        let over_cap = move |l: &Lanes| match &field {
+            Some(field) => lanes_over_cap(l, field, caps),
+            None => lanes_over_cap(l, forces, caps),
+        };
+        let guard = Guard {
+            every: u64::from(self.scene.guard.every),
+            first_tick: self.tick + 1,
+            over_cap: &over_cap,
+        };
+        let out = visit(
+            self.integrator,
+            &self.forces,
+            Batch {
+                lanes,
+                saved: saved_lanes,
+                events: &mut self.chunk_events[..chunks],
+                carry_valid: self.carry_valid,
+                work: BatchWork {
+                    frame: &frame,
+                    ticks,
+                    substeps: self.substeps,
+                    guard: &guard,
+                },
+            },
+        );
+        if !out.ok {
+            self.bodies.p.copy_from(&self.batch_backup.p);
+            self.bodies.mv.copy_from(&self.batch_backup.mv);
+            if carries {
+                self.carry.copy_from(&self.batch_backup.carry);
+            }
+            return false;
+        }
+        self.carry_valid = out.carried;
+        self.force_evals += out.evals;
+        true
+    }
+}
+
+/// [`World::step_ticks`]'s batch over all bodies, saving their state into `saved` first.
+pub(super) struct Batch<'a, 'f> {
+    lanes: Lanes<'a>,
+    saved: Lanes<'a>,
+    events: &'a mut [Vec<Event>],
+    carry_valid: bool,
+    work: BatchWork<'f>,
+}
+
+/// What a batch reports.
+#[derive(Clone, Copy)]
+pub(super) struct BatchOut {
+    evals: u64,
+    /// No body turned non-finite or tripped the guard (otherwise the batch is undone, so
+    /// which body does not matter).
+    ok: bool,
+    /// Whether the scheme wrote the carried force.
+    carried: bool,
+}
+
+impl SchemeVisitor for Batch<'_, '_> {
+    type Out = BatchOut;
+    fn visit<S: Scheme>(self, scheme: S) -> BatchOut {
+        let Batch {
+            mut lanes,
+            saved,
+            events,
+            carry_valid,
+            work,
+        } = self;
+        let mut extra = 0;
+        if S::CARRIES_FORCE && !carry_valid {
+            extra = fill_carry(&scheme, &mut lanes);
+        }
+        let (evals, ok) = split_batch::<S>(&scheme, lanes, saved, events, &work);
+        BatchOut {
+            evals: evals + extra,
+            ok,
+            carried: S::CARRIES_FORCE,
+        }
+    }
+}
+
+/// What every chunk of a batch runs: `ticks` ticks of `substeps` steps each, with the guard.
+pub(super) struct BatchWork<'f> {
+    frame: &'f StepFrame<'f>,
+    ticks: u64,
+    substeps: u32,
+    guard: &'f Guard<'f>,
+}
+
+/// Splits a batch into `events.len()` chunks like [`split_run`], combining in order.
+pub(super) fn split_batch<S: Scheme>(
+    scheme: &S,
+    lanes: Lanes,
+    saved: Lanes,
+    events: &mut [Vec<Event>],
+    work: &BatchWork,
+) -> (u64, bool) {
+    if events.len() <= 1 {
+        return batch_chunk::<S>(scheme, lanes, saved, &mut events[0], work);
+    }
+    let half = events.len() / 2;
+    let mid = lanes.len() * half / events.len();
+    let (left, right) = lanes.split_at(mid);
+    let (saved_left, saved_right) = saved.split_at(mid);
+    let (ev_left, ev_right) = events.split_at_mut(half);
+    let (a, b) = rayon::join(
+        || split_batch::<S>(scheme, left, saved_left, ev_left, work),
+        || split_batch::<S>(scheme, right, saved_right, ev_right, work),
+    );
+    (a.0 + b.0, a.1 & b.1)
+}
+
+/// One chunk of a batch: block by block, save the block, then run it every tick of the batch
+/// (each tick `substeps` times) through the same per-body loop as a tick, checking the guard
+/// after the ticks it is due. Returns the force evaluations and whether every body stayed
+/// finite and within its energy bound.
+pub(super) fn batch_chunk<S: Scheme>(
+    scheme: &S,
+    mut l: Lanes,
+    mut saved: Lanes,
+    events: &mut Vec<Event>,
+    work: &BatchWork,
+) -> (u64, bool) {
+    let n = l.len();
+    let guard = work.guard;
+    let (mut evals, mut ok) = (0, true);
+    for start in (0..n).step_by(BATCH_BLOCK) {
+        let end = (start + BATCH_BLOCK).min(n);
+        let mut block = l.sub(start, end);
+        saved.sub(start, end).copy_state(&block);
+        for tick in guard.first_tick..guard.first_tick + work.ticks {
+            for _ in 0..work.substeps {
+                let o = run::<S, false>(scheme, block.sub(0, end - start), work.frame, events);
+                evals += o.evals;
+                ok &= o.first_non_finite.is_none();
+            }
+            if guard.every != 0 && tick.is_multiple_of(guard.every) {
+                ok &= !(guard.over_cap)(&block);
+            }
+        }
+    }
+    (evals, ok)
+}

@@ -1,0 +1,67 @@
+//! The energy guard: every `guard.every` ticks, a body whose energy passed its bound (in a scene
+//! that cannot add energy) stops the run as a divergence.
+
+use glam::DVec3;
+
+use crate::forces::ForceModel;
+use crate::world::{Divergence, DivergenceCause, World};
+
+use super::lanes::Lanes;
+
+impl World {
+    /// The energy guard stage: every `guard.every` ticks, the first body whose energy passed
+    /// its bound stops the run.
+    pub(super) fn guard_energy(&mut self) -> Result<(), Divergence> {
+        let every = u64::from(self.scene.guard.every);
+        if every == 0 || !self.tick.is_multiple_of(every) {
+            return Ok(());
+        }
+        let found = match self.forces.constant_field() {
+            Some(field) => first_over_cap(&self.bodies, &field),
+            None => first_over_cap(&self.bodies, &self.forces),
+        };
+        match found {
+            Some((i, energy)) => {
+                let bound = self.bodies.energy_cap[i];
+                Err(self.stop(i, DivergenceCause::EnergyGrowth { energy, bound }))
+            }
+            None => Ok(()),
+        }
+    }
+}
+
+pub(super) fn first_over_cap<F: ForceModel>(
+    b: &crate::world::Bodies,
+    f: &F,
+) -> Option<(usize, f64)> {
+    let n = b.len();
+    let (p, mv) = (&b.p, &b.mv);
+    let (px, py, pz) = (&p.x[..n], &p.y[..n], &p.z[..n]);
+    let (mx, my, mz) = (&mv.x[..n], &mv.y[..n], &mv.z[..n]);
+    let (mass, inv_mass, cap) = (&b.mass[..n], &b.inv_mass[..n], &b.energy_cap[..n]);
+    (0..n).find_map(|i| {
+        // The velocity as `Bodies::velocity` forms it, from slices the compiler can see whole.
+        let v = DVec3::new(mx[i], my[i], mz[i]) * inv_mass[i];
+        let e = f.energy(DVec3::new(px[i], py[i], pz[i]), v, mass[i]);
+        // NaN energy is caught by the non-finite check; `>` keeps it from tripping twice.
+        (e > cap[i]).then_some((i, e))
+    })
+}
+
+/// Whether any body of `l` has more energy than its bound: [`first_over_cap`]'s test.
+pub(super) fn lanes_over_cap<F: ForceModel>(l: &Lanes, f: &F, caps: &[f64]) -> bool {
+    let n = l.len();
+    let cap = &caps[l.offset..l.offset + n];
+    (0..n).any(|i| {
+        let v = DVec3::new(l.mx[i], l.my[i], l.mz[i]) * l.inv_mass[i];
+        f.energy(DVec3::new(l.px[i], l.py[i], l.pz[i]), v, l.mass[i]) > cap[i]
+    })
+}
+
+/// The energy guard inside a batch: due after the ticks `first_tick + k` that are multiples of
+/// `every` (never if `every` is 0).
+pub(super) struct Guard<'f> {
+    pub(super) every: u64,
+    pub(super) first_tick: u64,
+    pub(super) over_cap: &'f (dyn Fn(&Lanes) -> bool + Sync),
+}

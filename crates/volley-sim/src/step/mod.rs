@@ -1,0 +1,106 @@
+//! One tick as a short list of named stages.
+//!
+//! This file is the table of contents, [`World::step`] and [`World::step_ticks`]; each stage
+//! lives beside it in a file of its own: `lanes` (the structure-of-arrays views one thread works
+//! on, and splitting them over threads), `kernel` (the per-body loop and its CPU-feature
+//! dispatch), `batch` (many ticks block by block, with undo) and `guard` (the energy guard).
+//!
+//! ```text
+//! step:  integrate (declared forces only) -> contacts (inline, only near a surface or target)
+//!        -> non-finite check (inline) -> energy guard (every `guard.every` ticks)
+//! ```
+//!
+//! Commands are applied by [`crate::World::apply`] before a step, at the tick boundary; hashing
+//! is on demand ([`crate::hash::state_hash`]); neither happens inside a step.
+//!
+//! The integrate stage is one loop over the bodies, monomorphised over the integrator and the
+//! force model (`integrate::visit`) and over whether the scene has any contacts, so a
+//! scene pays for exactly what it declares. With several threads the bodies are split into
+//! contiguous chunks ([`rayon::join`]); each chunk writes its own event buffer and the buffers
+//! are concatenated in chunk order, and the per-body arithmetic does not depend on the chunking,
+//! so the state and the events are bit-identical for every thread count.
+
+mod batch;
+mod guard;
+mod kernel;
+mod lanes;
+
+pub use crate::simd::{SimdLevel, simd_level};
+use crate::world::{Divergence, DivergenceCause, World};
+pub use batch::{BATCH_BLOCK, BATCH_MAX_TICKS};
+pub use kernel::STREAMING_MIN_BODIES;
+
+/// Bodies per chunk below which stepping stays on one thread.
+pub const PARALLEL_MIN_CHUNK: usize = 16 * 1024;
+
+impl World {
+    /// Advances the world by one tick (`substeps` integrator steps), or returns the divergence
+    /// that stopped it. A stopped world stays stopped and keeps the state it stopped at.
+    pub fn step(&mut self) -> Result<(), Divergence> {
+        if let Some(d) = self.diverged {
+            return Err(d);
+        }
+        self.events.clear();
+        let next_tick = self.tick + 1;
+        let h_sub = self.h / f64::from(self.substeps);
+        for k in 0..self.substeps {
+            let t0 = self.time_of(self.tick) + f64::from(k) * h_sub;
+            if let Some(i) = self.integrate(next_tick, t0, h_sub) {
+                self.tick = next_tick;
+                return Err(self.stop(i, DivergenceCause::NonFinite));
+            }
+        }
+        self.tick = next_tick;
+        self.guard_energy()
+    }
+
+    /// Stops the run at storage index `i` for `cause`; the world keeps this state.
+    pub(super) fn stop(&mut self, i: usize, cause: DivergenceCause) -> Divergence {
+        let d = Divergence {
+            tick: self.tick,
+            body: self.bodies.id[i],
+            cause,
+        };
+        self.diverged = Some(d);
+        d
+    }
+
+    /// Advances the world by `n` ticks: the same bits, events, force-evaluation count and
+    /// divergence (tick, body, cause) as `n` calls of [`World::step`], stopping at the first
+    /// divergence. Only the last tick's events are kept, so [`crate::SimLoop`] batches only
+    /// when the observer asked for no tick in between.
+    ///
+    /// A world without contacts (so without events) runs **batches**: its bodies do not
+    /// interact, so each block of [`BATCH_BLOCK`] bodies runs every tick of the batch while it
+    /// sits in the core's cache before the next block is loaded, and the state crosses the
+    /// memory bus once per batch instead of once per tick; the energy guard checks each block
+    /// at the ticks it is due, while the block is still in cache. A batch is at most
+    /// [`BATCH_MAX_TICKS`] long. Each body goes through exactly the operations `step` applies,
+    /// in the same order, so the bits are the same. Before a batch the state is saved (as each
+    /// block is loaded); if any body turns non-finite or trips the guard inside it, the batch
+    /// is undone and run again tick by tick, so the run stops at exactly the tick, body and
+    /// cause `step` names.
+    /// With contacts the ticks run one by one.
+    pub fn step_ticks(&mut self, n: u64) -> Result<(), Divergence> {
+        if n == 0 {
+            return Ok(());
+        }
+        if let Some(d) = self.diverged {
+            return Err(d);
+        }
+        let batches = self.contacts.is_empty();
+        let mut left = n;
+        while left > 0 {
+            let m = left.min(BATCH_MAX_TICKS);
+            if batches && m >= 2 && self.integrate_batch(m) {
+                self.tick += m;
+            } else {
+                for _ in 0..m {
+                    self.step()?;
+                }
+            }
+            left -= m;
+        }
+        Ok(())
+    }
+}

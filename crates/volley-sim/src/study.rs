@@ -1,0 +1,407 @@
+//! Speed against error: sweep integrators and timesteps over one scene and measure what each
+//! setting costs and what it buys.
+//!
+//! For every (integrator, dt) the scene runs through the ordinary [`SimLoop`] and
+//! [`World::step`], and the study records:
+//!
+//! - **cost**: force evaluations per simulated second ([`World::force_evals`], which counts every
+//!   stage, the start-up force of Verlet and every evaluation of the contact root searches), and
+//!   wall time per tick, the median of repeated runs with no observer (meaningful only in a
+//!   release build; the report says which build made it);
+//! - **error** of the positions against a reference ([`mod@reference`]): at the final tick, the
+//!   largest over the trajectory, and the RMS over every sampled (tick, body) pair; the largest
+//!   velocity error at the final tick; and the error of event times (impacts, target hits), the
+//!   k-th event of a body on a surface or target matched with the reference's k-th;
+//! - **energy drift** per time window for conservative scenes (no drag, restitution 1);
+//! - the **stability pre-check**'s verdict ([`crate::stability`]), beside what happened;
+//! - per integrator, the **observed order**: the least-squares slope of log(max error) against
+//!   log(dt) over the completed runs whose error is above the rounding floor.
+//!
+//! With a tolerance the study names the cheapest setting (fewest force evaluations per simulated
+//! second) whose largest trajectory error meets it. [`output`] writes the markdown table and the
+//! CSV, [`plot`] the work-precision diagram.
+//!
+//! ```
+//! use volley_sim::study::{self, StudyConfig};
+//! use volley_sim::Integrator;
+//! let scene = volley_sim::scene::bundled("seed").unwrap().unwrap();
+//! let config = StudyConfig {
+//!     integrators: vec![Integrator::ExplicitEuler, Integrator::Rk4],
+//!     dts: vec![0.2, 0.1],
+//!     timing: false,
+//!     ..StudyConfig::for_scene(&scene)
+//! };
+//! let report = study::run(&scene, &config, &mut |_| {}).unwrap();
+//! let euler = &report.points[0];
+//! // Explicit Euler ends g T h / 2 high under gravity: about 5 m after 5.4 s at h = 0.2.
+//! assert!(euler.errors.unwrap().final_position > 4.0);
+//! ```
+
+pub mod fit;
+mod measure;
+pub mod output;
+
+pub mod reference;
+
+use std::time::{Duration, Instant};
+
+use crate::clock::VirtualClock;
+use crate::integrate::Integrator;
+use crate::scene::Scene;
+use crate::sim_loop::{LoopError, SimLoop};
+use crate::stability;
+use crate::world::{Divergence, World};
+
+pub use fit::OrderFit;
+pub use measure::{EnergyDrift, Errors, EventErrors};
+pub use reference::{Reference, ReferenceKind};
+
+/// What to sweep and how to measure it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyConfig {
+    /// Integrators, in table order.
+    pub integrators: Vec<Integrator>,
+    /// Tick lengths (s); each is rounded to whole nanoseconds like a scene's `dt`.
+    pub dts: Vec<f64>,
+    /// Sim time (s) every run reaches: the first tick at or after it is the final tick.
+    pub until: f64,
+    /// Largest acceptable trajectory position error (m), to name the cheapest setting meeting it.
+    pub tolerance: Option<f64>,
+    /// Whether to measure wall time (repeated untimed-observer runs). Tests turn it off.
+    pub timing: bool,
+    /// Fewest timed repeats per point (the median is reported).
+    pub min_repeats: u32,
+    /// Keep repeating (up to 25 runs) until this much wall time was spent on a point.
+    pub timing_budget: Duration,
+    /// Windows the run is split into for the energy drift.
+    pub energy_windows: usize,
+    /// Most sampled ticks per run for the trajectory errors (evenly strided, final tick always).
+    pub max_samples: u64,
+}
+
+impl StudyConfig {
+    /// Defaults for `scene`: every integrator it allows except `exact` (no force evaluations, so
+    /// it has no place on a cost axis), six steps halving from the scene's `dt`, until the end
+    /// of the scene's duration, 10 energy windows.
+    pub fn for_scene(scene: &Scene) -> StudyConfig {
+        StudyConfig {
+            integrators: Integrator::ALL
+                .into_iter()
+                .filter(|i| *i != Integrator::Exact)
+                .collect(),
+            dts: (0..6).map(|k| scene.dt() / f64::from(1u32 << k)).collect(),
+            until: scene.start_time + scene.duration,
+            tolerance: None,
+            timing: true,
+            min_repeats: 3,
+            timing_budget: Duration::from_millis(200),
+            energy_windows: 10,
+            max_samples: 20_000,
+        }
+    }
+}
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Outcome {
+    /// Reached the final tick.
+    Completed,
+    /// Stopped by the divergence guard.
+    Diverged(Divergence),
+}
+
+/// The measurements of one (integrator, dt).
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyPoint {
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Tick length (s), after rounding to nanoseconds.
+    pub dt: f64,
+    /// Integrator steps per tick (the scene's).
+    pub substeps: u32,
+    /// Ticks to the final tick.
+    pub ticks: u64,
+    /// Force evaluations of the run (to the divergence, if it diverged).
+    pub force_evals: u64,
+    /// Force evaluations per simulated second.
+    pub evals_per_second: f64,
+    /// Median wall time per tick (None without timing or when the run diverged).
+    pub wall_per_tick: Option<Duration>,
+    /// Timed samples behind the median (each sample is one or more back-to-back runs).
+    pub repeats: u32,
+    /// Completed or diverged.
+    pub outcome: Outcome,
+    /// Position and velocity errors (None when the run diverged).
+    pub errors: Option<Errors>,
+    /// Event-time errors.
+    pub events: EventErrors,
+    /// Energy drift per window, for conservative scenes.
+    pub energy: Option<EnergyDrift>,
+    /// The pre-check's growth factor per step (1 = neutral) and whether it called the step
+    /// stable.
+    pub precheck: stability::Growth,
+}
+
+impl StudyPoint {
+    /// Wall time (s) per simulated second, if measured.
+    pub fn wall_per_sim_second(&self) -> Option<f64> {
+        self.wall_per_tick.map(|w| w.as_secs_f64() / self.dt)
+    }
+}
+
+/// Everything a study found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyReport {
+    /// Scene name.
+    pub scene: String,
+    /// Sim time of tick 0 (s).
+    pub start_time: f64,
+    /// Sim time (s) the runs reach.
+    pub until: f64,
+    /// Whether this binary is a release build (wall times mean something only then).
+    pub release: bool,
+    /// The reference used for each dt, in `dts` order.
+    pub references: Vec<Reference>,
+    /// One point per (dt, integrator), dt-major in the order given.
+    pub points: Vec<StudyPoint>,
+    /// Observed order per integrator, in the order given.
+    pub orders: Vec<(Integrator, OrderFit)>,
+    /// The tolerance asked for (m), and the index in `points` of the cheapest setting meeting
+    /// it (None if none does).
+    pub cheapest: Option<(f64, Option<usize>)>,
+    /// Pre-check warning lines ([`precheck_lines`]).
+    pub warnings: Vec<String>,
+}
+
+/// Progress of a study, for a progress bar.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Progress {
+    /// Runs finished.
+    pub done: u64,
+    /// Runs in all (references included).
+    pub total: u64,
+    /// What runs next.
+    pub message: String,
+}
+
+/// Why a study could not run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyError(pub String);
+
+impl std::fmt::Display for StudyError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for StudyError {}
+
+/// Validates `config` against `scene`: non-empty lists, valid steps, integrators the scene
+/// allows, a final time after the start.
+pub fn validate(scene: &Scene, config: &StudyConfig) -> Result<(), StudyError> {
+    let bad = |m: String| Err(StudyError(m));
+    if config.integrators.is_empty() {
+        return bad("integrators: expected at least one".into());
+    }
+    if config.dts.is_empty() {
+        return bad("dt: expected at least one step".into());
+    }
+    for &dt in &config.dts {
+        scene.clone().set_dt(dt).map_err(StudyError)?;
+    }
+    for &i in &config.integrators {
+        crate::scene::check_integrator(i, &scene.forces)
+            .map_err(|m| StudyError(format!("integrators: {m}")))?;
+    }
+    if !(config.until.is_finite() && config.until > scene.start_time) {
+        return bad(format!(
+            "until: expected a finite time after the scene's start {} s, got {}",
+            scene.start_time, config.until
+        ));
+    }
+    if let Some(t) = config.tolerance
+        && !(t.is_finite() && t > 0.0)
+    {
+        return bad(format!(
+            "tolerance: expected a finite number > 0 (m), got {t}"
+        ));
+    }
+    if config.energy_windows == 0 || config.max_samples == 0 {
+        return bad("energy windows and samples: expected at least 1".into());
+    }
+    Ok(())
+}
+
+/// Runs the study. `progress` is called before each run.
+pub fn run(
+    scene: &Scene,
+    config: &StudyConfig,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<StudyReport, StudyError> {
+    validate(scene, config)?;
+    let total = (config.dts.len() * (config.integrators.len() + 1)) as u64;
+    let mut done = 0;
+    let mut tell = |message: String, done: &mut u64| {
+        progress(Progress {
+            done: *done,
+            total,
+            message,
+        });
+        *done += 1;
+    };
+    let finest = config.dts.iter().copied().fold(f64::INFINITY, f64::min);
+    let (mut points, mut references) = (Vec::new(), Vec::new());
+    for &dt in &config.dts {
+        let mut at_dt = scene.clone();
+        at_dt.set_dt(dt).map_err(StudyError)?;
+        let ticks = at_dt.ticks_until(config.until).max(1);
+        let stride = ticks.div_ceil(config.max_samples).max(1);
+        tell(
+            format!("reference at dt = {}", output::sci(at_dt.dt())),
+            &mut done,
+        );
+        let reference = reference::build(&at_dt, ticks, stride, finest)?;
+        let check = stability::check_at(&at_dt, at_dt.dt(), at_dt.substeps, at_dt.integrator);
+        for &integrator in &config.integrators {
+            tell(
+                format!("{integrator} at dt = {}", output::sci(at_dt.dt())),
+                &mut done,
+            );
+            let mut run_scene = at_dt.clone();
+            run_scene.set_integrator(integrator).map_err(StudyError)?;
+            let precheck = precheck_of(&check, integrator);
+            let mut point = measure::run_point(&run_scene, ticks, stride, &reference, config)?;
+            point.precheck = precheck;
+            if config.timing && point.outcome == Outcome::Completed {
+                let (wall, repeats) = time_runs(&run_scene, ticks, config)?;
+                (point.wall_per_tick, point.repeats) = (Some(wall), repeats);
+            }
+            points.push(point);
+        }
+        references.push(reference);
+    }
+    let orders = config
+        .integrators
+        .iter()
+        .map(|&i| (i, fit::observed_order(&points, i, &references)))
+        .collect();
+    let cheapest = config.tolerance.map(|t| (t, fit::cheapest(&points, t)));
+    Ok(StudyReport {
+        scene: scene.name.clone(),
+        start_time: scene.start_time,
+        until: config.until,
+        release: !cfg!(debug_assertions),
+        references,
+        points,
+        orders,
+        cheapest,
+        warnings: precheck_lines(scene, config),
+    })
+}
+
+/// The pre-check of a whole study, as warning lines: the stiffness once, then for each
+/// integrator outside its linear stability region at some studied dt, which dts, and the fixes
+/// at the largest of them. Empty when every point is stable.
+pub fn precheck_lines(scene: &Scene, config: &StudyConfig) -> Vec<String> {
+    let mut lines = Vec::new();
+    for &integrator in &config.integrators {
+        let mut unstable = Vec::new();
+        for &dt in &config.dts {
+            let mut at_dt = scene.clone();
+            if at_dt.set_dt(dt).is_err() {
+                continue;
+            }
+            let report = stability::check_at(&at_dt, at_dt.dt(), at_dt.substeps, integrator);
+            if report.verdict(integrator).is_some_and(|v| !v.stable) {
+                unstable.push(report);
+            }
+        }
+        let Some(largest) = unstable.iter().max_by(|a, b| a.dt.total_cmp(&b.dt)) else {
+            continue;
+        };
+        if lines.is_empty()
+            && let Some(first) = largest.warnings().into_iter().next()
+        {
+            lines.push(first);
+        }
+        let dts: Vec<String> = unstable.iter().map(|r| output::sci(r.dt)).collect();
+        let worst = unstable
+            .iter()
+            .filter_map(|r| r.verdict(integrator).map(|v| v.growth))
+            .fold(1.0, f64::max);
+        lines.push(format!(
+            "pre-check: {integrator} is outside its linear stability region at dt = {} \
+             (amplitude up to {} per step): expect those runs to grow without bound",
+            dts.join(", "),
+            stability::growth_text(worst)
+        ));
+        if let Some(v) = largest.verdict(integrator) {
+            lines.push(format!(
+                "  fix at dt = {}: {}",
+                output::sci(largest.dt),
+                largest.fixes(v).join(", or ")
+            ));
+        }
+    }
+    lines
+}
+
+fn precheck_of(check: &stability::StabilityReport, integrator: Integrator) -> stability::Growth {
+    check.verdict(integrator).map_or(
+        stability::Growth {
+            rho: 1.0,
+            stable: true,
+        },
+        |v| stability::Growth {
+            rho: v.growth,
+            stable: v.stable,
+        },
+    )
+}
+
+/// Median wall time per tick over repeated samples, and the number of samples. A sample is
+/// `k` back-to-back runs with no observer, `k` chosen so one sample lasts at least a
+/// millisecond (a 27-tick run alone is too short for the clock to time).
+fn time_runs(
+    scene: &Scene,
+    ticks: u64,
+    config: &StudyConfig,
+) -> Result<(Duration, u32), StudyError> {
+    let once = || -> Result<Duration, StudyError> {
+        let mut sim = SimLoop::new(World::new(scene));
+        let mut clock = VirtualClock::Steady(scene.timestep);
+        let t0 = Instant::now();
+        let result = sim.run_until(ticks, &mut clock, &mut ());
+        let elapsed = t0.elapsed();
+        result.map_err(|e| {
+            StudyError(format!(
+                "a timed run failed where the measured one did not: {e}"
+            ))
+        })?;
+        Ok(elapsed)
+    };
+    let first = once()?.max(Duration::from_nanos(1));
+    let k = (Duration::from_millis(1).as_nanos() / first.as_nanos()).clamp(1, 10_000) as u32;
+    let mut samples = Vec::new();
+    let started = Instant::now();
+    while samples.len() < config.min_repeats.max(1) as usize
+        || (started.elapsed() < config.timing_budget && samples.len() < 25)
+    {
+        let mut total = Duration::ZERO;
+        for _ in 0..k {
+            total += once()?;
+        }
+        let runs_ticks = u128::from(k) * u128::from(ticks);
+        samples.push(Duration::from_nanos((total.as_nanos() / runs_ticks) as u64));
+    }
+    samples.sort();
+    Ok((samples[samples.len() / 2], samples.len() as u32))
+}
+
+/// The loop error of a run, as a study error (divergence is an outcome, not an error).
+pub(crate) fn loop_error(e: LoopError) -> Result<Divergence, StudyError> {
+    match e {
+        LoopError::Diverged(d) => Ok(d),
+        other => Err(StudyError(other.to_string())),
+    }
+}

@@ -1,0 +1,224 @@
+//! Hard cases 1-3: a stiff spring, strong drag, a long orbit.
+//!
+//! On the test equation each method multiplies the state by its stability function R; in the
+//! coordinates (x, v/w) of an undamped oscillator that is a complex multiplication by R(i w h),
+//! so the energy of explicit Euler, midpoint, RK4 and implicit Euler changes by exactly
+//! |R(i w h)|^2 per step, and the guard (10x the start energy) trips at the first tick past it.
+
+use volley_sim::Integrator::{self, *};
+use volley_sim::stability;
+use volley_sim::world::DivergenceCause;
+
+use super::{allowed, diverged, load, run, ticks_to_pass, with};
+
+/// |R(i y)|^2 of the methods whose step is a complex multiplication on the oscillator.
+fn oscillator_energy_ratio(integrator: Integrator, y: f64) -> Option<f64> {
+    let y2 = y * y;
+    match integrator {
+        ExplicitEuler => Some(1.0 + y2),
+        Midpoint => Some((1.0 - y2 / 2.0).powi(2) + y2),
+        Rk4 => Some((1.0 - y2 / 2.0 + y2 * y2 / 24.0).powi(2) + (y - y2 * y / 6.0).powi(2)),
+        ImplicitEuler => Some(1.0 / (1.0 + y2)),
+        _ => None,
+    }
+}
+
+#[test]
+fn stiff_spring_energy_changes_by_the_stability_function_and_the_guard_catches_growth() {
+    let scene = load("hard/stiff_spring");
+    let y = 100.0 * scene.dt(); // w = sqrt(k/m) = 100 rad/s
+    for integrator in [ExplicitEuler, Midpoint, Rk4, ImplicitEuler] {
+        let ratio = oscillator_energy_ratio(integrator, y).unwrap();
+        let (trace, result, _) = run(&with(&scene, integrator), 600);
+        for pair in trace.energy.windows(2).take(2) {
+            // Exact in real arithmetic; a few ulps of rounding per step.
+            let r = pair[1] / pair[0];
+            assert!(
+                (r - ratio).abs() < 1e-12 * ratio,
+                "{integrator}: {r} vs {ratio}"
+            );
+        }
+        if ratio > 1.0 {
+            let d = diverged(&result, integrator.name());
+            assert_eq!(d.tick, ticks_to_pass(ratio, 10.0), "{integrator}");
+            assert_eq!(d.body.0, 0);
+            assert!(
+                matches!(d.cause, DivergenceCause::EnergyGrowth { .. }),
+                "{d}"
+            );
+        } else {
+            assert!(
+                result.is_ok(),
+                "{integrator} decays and must not be stopped: {result:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn stiff_spring_symplectic_methods_stay_bounded() {
+    let scene = load("hard/stiff_spring");
+    let y = 100.0 * scene.dt();
+    // Semi-implicit Euler conserves Q = v^2 + w^2 x^2 - h w^2 x v, so from rest E/E0 stays in
+    // [1/(1 + y/2), 1/(1 - y/2)]; Verlet conserves v^2 + w^2 x^2 (1 - y^2/4), so from rest at the
+    // amplitude E/E0 stays in [1 - y^2/4, 1]. Rounding over 600 steps: 1e-9 relative is generous.
+    let bounds = [
+        (
+            SemiImplicitEuler,
+            1.0 / (1.0 + y / 2.0),
+            1.0 / (1.0 - y / 2.0),
+        ),
+        (VelocityVerlet, 1.0 - y * y / 4.0, 1.0),
+    ];
+    for (integrator, lo, hi) in bounds {
+        let (trace, result, _) = run(&with(&scene, integrator), 600);
+        assert!(result.is_ok(), "{integrator}: {result:?}");
+        let e0 = trace.energy[0];
+        for (tick, e) in trace.energy.iter().enumerate() {
+            let r = e / e0;
+            assert!(
+                r >= lo - 1e-9 && r <= hi + 1e-9,
+                "{integrator} tick {tick}: E/E0 = {r}"
+            );
+        }
+    }
+}
+
+#[test]
+fn stiff_spring_has_no_closed_form_integrator() {
+    let scene = load("hard/stiff_spring");
+    assert!(!allowed(&scene).contains(&Exact));
+    let err = volley_sim::scene::check_integrator(Exact, &scene.forces).unwrap_err();
+    assert!(err.contains("Spring"), "{err}");
+}
+
+#[test]
+fn stiff_spring_overflow_is_caught_as_non_finite_without_the_energy_guard() {
+    let mut scene = with(&load("hard/stiff_spring"), ExplicitEuler);
+    scene.guard.every = 0;
+    let y = 100.0 * scene.dt();
+    let (_, result, world) = run(&scene, 5000);
+    let d = diverged(&result, "explicit-euler, no energy guard");
+    assert_eq!((d.body.0, d.cause), (0, DivergenceCause::NonFinite));
+    // The amplitude grows by rho = sqrt(1 + y^2) per step from 1 m; the force k x (k = 1e4)
+    // overflows once rho^n passes f64::MAX / 1e4, and not before rho^n passes f64::MAX / 1e5.
+    let ln_rho = 0.5 * (1.0 + y * y).ln();
+    let earliest = ((f64::MAX / 1e5).ln() / ln_rho).floor() as u64;
+    let latest = (f64::MAX.ln() / ln_rho).ceil() as u64 + 1;
+    assert!(
+        (earliest..=latest).contains(&d.tick),
+        "tick {} not in {earliest}..={latest}",
+        d.tick
+    );
+    assert_eq!(
+        world.tick(),
+        d.tick,
+        "the world keeps the state it stopped at"
+    );
+}
+
+#[test]
+fn stiff_spring_at_1e5_every_explicit_method_is_flagged_before_running() {
+    let scene = load("hard/stiff_spring_1e5");
+    let y = 1e5f64.sqrt() * scene.dt();
+    let report = stability::check(&scene);
+    for v in &report.verdicts {
+        let explicit = !matches!(v.integrator, ImplicitEuler | Exact);
+        assert_eq!(v.stable, !explicit, "{}", v.integrator);
+        // Substeps n with y / n inside the oscillator limit: the first whole n past y / limit.
+        let expected = match v.integrator.info().oscillator_limit {
+            None => None,
+            Some(l) if l.is_finite() => Some((y / l).floor() as u32 + 1),
+            Some(_) => Some(1),
+        };
+        assert_eq!(v.substeps, expected, "{}", v.integrator);
+    }
+    let text = report.warnings().join("\n");
+    for needle in [
+        "every explicit integrator diverges",
+        "--substeps 3",
+        "implicit-euler",
+    ] {
+        assert!(text.contains(needle), "missing `{needle}` in:\n{text}");
+    }
+}
+
+#[test]
+fn stiff_spring_at_1e5_explicit_methods_diverge_and_the_fixes_hold() {
+    let scene = load("hard/stiff_spring_1e5");
+    let y = 1e5f64.sqrt() * scene.dt();
+    for integrator in [
+        ExplicitEuler,
+        SemiImplicitEuler,
+        VelocityVerlet,
+        Midpoint,
+        Rk4,
+    ] {
+        let (_, result, _) = run(&with(&scene, integrator), 600);
+        let d = diverged(&result, integrator.name());
+        match oscillator_energy_ratio(integrator, y) {
+            Some(ratio) => assert_eq!(d.tick, ticks_to_pass(ratio, 10.0), "{integrator}"),
+            // Amplitude x25.7 per step (spectral radius at y = 5.27): past 10x energy at once.
+            None => assert!(d.tick <= 2, "{integrator}: tick {}", d.tick),
+        }
+    }
+    let report = stability::check(&scene);
+    for integrator in [SemiImplicitEuler, VelocityVerlet, Rk4] {
+        let n = report.verdict(integrator).unwrap().substeps.unwrap();
+        let mut fixed = with(&scene, integrator);
+        fixed.set_substeps(n).unwrap();
+        let (_, result, _) = run(&fixed, 600);
+        assert!(result.is_ok(), "{integrator} at {n} substeps: {result:?}");
+    }
+    let (trace, result, _) = run(&with(&scene, ImplicitEuler), 600);
+    assert!(result.is_ok());
+    let r = trace.energy[1] / trace.energy[0];
+    assert!(
+        (r - 1.0 / (1.0 + y * y)).abs() < 1e-12,
+        "implicit Euler damps by 1/(1+y^2): {r}"
+    );
+}
+
+#[test]
+fn strong_drag_multiplies_velocity_by_the_stability_function() {
+    let scene = load("hard/strong_drag");
+    let z = 200.0 * scene.dt(); // k h
+    for integrator in allowed(&scene) {
+        let r = match integrator {
+            ExplicitEuler | SemiImplicitEuler => 1.0 - z,
+            VelocityVerlet | Midpoint => 1.0 - z + z * z / 2.0,
+            Rk4 => 1.0 - z + z * z / 2.0 - z.powi(3) / 6.0 + z.powi(4) / 24.0,
+            ImplicitEuler => 1.0 / (1.0 + z),
+            Exact => (-z).exp(),
+        };
+        let s = with(&scene, integrator);
+        let mut one = volley_sim::World::new(&s);
+        let v0 = one.velocity(0).x;
+        let _ = one.step(); // the state it stopped at is kept if the guard trips
+        let first = one.velocity(0).x / v0;
+        let (trace, result, _) = run(&s, 120);
+        assert!(
+            (first - r).abs() < 1e-12 * r.abs().max(1.0),
+            "{integrator}: {first} vs {r}"
+        );
+        if r.abs() > 1.0 {
+            // Energy grows by r^2 per step; the guard's bound is 10x the start (kinetic only).
+            let d = diverged(&result, integrator.name());
+            assert_eq!(d.tick, ticks_to_pass(r * r, 10.0), "{integrator}");
+        } else {
+            assert!(result.is_ok(), "{integrator}: {result:?}");
+            for pair in trace.v.windows(2) {
+                assert!(
+                    pair[1].x > 0.0 && pair[1].x < pair[0].x,
+                    "{integrator} is not monotone"
+                );
+            }
+        }
+    }
+    // Explicit Euler flips the sign every step: 1 - k h = -2.33.
+    let mut unguarded = with(&scene, ExplicitEuler);
+    unguarded.guard.every = 0;
+    let (trace, _, _) = run(&unguarded, 3);
+    assert!(trace.v[1].x < 0.0 && trace.v[2].x > 0.0 && trace.v[3].x < 0.0);
+    assert!(trace.v[3].x.abs() > trace.v[2].x.abs());
+}

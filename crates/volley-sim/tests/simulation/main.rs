@@ -1,0 +1,18 @@
+//! The simulation's tests: clock, loop, world, integrators, closed forms, events, the stability
+//! pre-check and the hard cases. One binary, no GPU stack: it links `volley-sim` alone.
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod aim;
+mod clock;
+mod convergence;
+mod events;
+mod exact;
+mod hard_cases;
+mod layers;
+mod parallel;
+mod rest_event;
+mod seed;
+mod stability;
+mod world;

@@ -1,0 +1,199 @@
+//! The work-precision diagram: error against cost, log-log, one line per integrator.
+//!
+//! Drawn with `plotters`: its SVG backend for the `.svg`, its bitmap backend into an RGB buffer
+//! encoded with the `png` crate for the `.png`. Text in the PNG is rasterised with `ab_glyph`
+//! from a font compiled into the binary (`assets/fonts/DejaVuSans-subset.ttf`, DejaVu Sans cut
+//! to printable ASCII and a few symbols, 11 kB; licence beside it), so the plot renders the same
+//! on a machine with no fonts installed. The SVG names the `sans-serif` family and leaves the
+//! glyphs to the viewer.
+//!
+//! Left panel: largest position error against force evaluations per simulated second. Right
+//! panel, when the study was timed: the same errors against wall time per simulated second.
+//! Diverged runs have no error and are left out; runs at the rounding floor (an integrator exact
+//! for the scene) are drawn at the floor, marked in the legend.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::integrate::Integrator;
+
+use crate::study::{Outcome, StudyError, StudyReport};
+
+/// Size of the diagram in pixels (SVG user units).
+pub const SIZE: (u32, u32) = (1200, 560);
+
+/// Errors below this (m) are drawn at it: a log axis has no zero.
+const ERROR_FLOOR: f64 = 1e-16;
+
+static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans-subset.ttf");
+
+fn register_font() -> Result<(), StudyError> {
+    static ONCE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    let ok = *ONCE.get_or_init(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()
+    });
+    ok.then_some(())
+        .ok_or_else(|| StudyError("the embedded plot font does not load".into()))
+}
+
+fn color(i: Integrator) -> RGBColor {
+    match i {
+        Integrator::ExplicitEuler => RGBColor(214, 39, 40),
+        Integrator::SemiImplicitEuler => RGBColor(31, 119, 180),
+        Integrator::VelocityVerlet => RGBColor(44, 160, 44),
+        Integrator::Midpoint => RGBColor(255, 127, 14),
+        Integrator::Rk4 => RGBColor(148, 103, 189),
+        Integrator::ImplicitEuler => RGBColor(140, 86, 75),
+        Integrator::Exact => RGBColor(127, 127, 127),
+    }
+}
+
+/// (cost, error) per integrator for one cost axis.
+type Series = Vec<(Integrator, Vec<(f64, f64)>)>;
+
+fn series(r: &StudyReport, cost: impl Fn(&crate::study::StudyPoint) -> Option<f64>) -> Series {
+    let mut out: Series = Vec::new();
+    for p in &r.points {
+        let (Some(e), Some(c), Outcome::Completed) = (p.errors, cost(p), p.outcome) else {
+            continue;
+        };
+        if c.is_nan() || c <= 0.0 {
+            continue;
+        }
+        let point = (c, e.max_position.max(ERROR_FLOOR));
+        match out.iter_mut().find(|(i, _)| *i == p.integrator) {
+            Some((_, v)) => v.push(point),
+            None => out.push((p.integrator, vec![point])),
+        }
+    }
+    for (_, v) in &mut out {
+        v.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    out
+}
+
+fn range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(l, h), x| (l.min(x), h.max(x)));
+    if !lo.is_finite() {
+        return 1.0..10.0;
+    }
+    (lo / 2.0)..(hi * 2.0).max(lo * 4.0)
+}
+
+fn panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    x_desc: &str,
+    data: &Series,
+) -> Result<(), String> {
+    let e = |err: DrawingAreaErrorKind<DB::ErrorType>| err.to_string();
+    let xs = range(data.iter().flat_map(|(_, v)| v.iter().map(|p| p.0)));
+    let ys = range(data.iter().flat_map(|(_, v)| v.iter().map(|p| p.1)));
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(42)
+        .y_label_area_size(70)
+        .build_cartesian_2d(xs.log_scale(), ys.log_scale())
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc("largest position error (m)")
+        .x_labels(6)
+        .y_labels(10)
+        .x_label_formatter(&|x| format!("{x:.0e}"))
+        .y_label_formatter(&|y| format!("{y:.0e}"))
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(e)?;
+    for (integrator, points) in data {
+        let c = color(*integrator);
+        let at_floor = points.iter().all(|p| p.1 <= ERROR_FLOOR);
+        let name = if at_floor {
+            format!("{integrator} (at rounding floor)")
+        } else {
+            integrator.to_string()
+        };
+        chart
+            .draw_series(LineSeries::new(points.iter().copied(), c.stroke_width(2)))
+            .map_err(e)?
+            .label(name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+        chart
+            .draw_series(points.iter().map(|p| Circle::new(*p, 4, c.filled())))
+            .map_err(e)?;
+    }
+    chart
+        .configure_series_labels()
+        .label_font(("sans-serif", 13))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(e)?;
+    Ok(())
+}
+
+fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, r: &StudyReport) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let evals = series(r, |p| Some(p.evals_per_second));
+    let walls = series(r, |p| p.wall_per_sim_second());
+    let title = format!("{}: error against force evaluations", r.scene);
+    if walls.is_empty() {
+        panel(
+            &root,
+            &title,
+            "force evaluations per simulated second",
+            &evals,
+        )?;
+    } else {
+        let halves = root.split_evenly((1, 2));
+        panel(
+            &halves[0],
+            &title,
+            "force evaluations per simulated second",
+            &evals,
+        )?;
+        let build = if r.release { "release" } else { "DEBUG build" };
+        let title = format!("{}: error against wall time ({build})", r.scene);
+        panel(
+            &halves[1],
+            &title,
+            "wall time per simulated second (s)",
+            &walls,
+        )?;
+    }
+    root.present().map_err(|e| e.to_string())
+}
+
+/// The diagram as SVG text.
+pub fn svg(r: &StudyReport) -> Result<String, StudyError> {
+    register_font()?;
+    let mut text = String::new();
+    {
+        let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();
+        draw(root, r).map_err(|e| StudyError(format!("plot: {e}")))?;
+    }
+    Ok(text)
+}
+
+/// The diagram as PNG bytes.
+pub fn png(r: &StudyReport) -> Result<Vec<u8>, StudyError> {
+    register_font()?;
+    let (w, h) = SIZE;
+    let mut rgb = vec![0u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+        draw(root, r).map_err(|e| StudyError(format!("plot: {e}")))?;
+    }
+    let mut out = Vec::new();
+    let mut encoder = png::Encoder::new(&mut out, w, h);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let encode = |e: png::EncodingError| StudyError(format!("png: {e}"));
+    let mut writer = encoder.write_header().map_err(encode)?;
+    writer.write_image_data(&rgb).map_err(encode)?;
+    writer.finish().map_err(encode)?;
+    Ok(out)
+}

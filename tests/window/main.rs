@@ -1,0 +1,14 @@
+//! The window and the GPU: the renderer against its golden image, trails and history, the real
+//! winit window under Xvfb (smoke, sessions, recording and replaying from the panel).
+
+#[path = "../support/mod.rs"]
+mod support;
+
+#[path = "../../crates/volley-sim/tests/replay_support/mod.rs"]
+mod replay_support;
+
+mod render_golden;
+mod render_history;
+mod window_record_replay;
+mod window_session;
+mod window_smoke;
