@@ -17,7 +17,7 @@ use plotters::prelude::*;
 
 use crate::integrate::Integrator;
 
-use crate::study::{Outcome, StudyError, StudyReport};
+use crate::study::{Outcome, StudyReport};
 
 /// Size of the diagram in pixels (SVG user units).
 pub const SIZE: (u32, u32) = (1200, 560);
@@ -27,25 +27,41 @@ const ERROR_FLOOR: f64 = 1e-16;
 
 static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans-subset.ttf");
 
-fn register_font() -> Result<(), StudyError> {
+/// Why the diagram could not be made.
+#[derive(Debug)]
+pub enum PlotError {
+    /// The font compiled into the binary does not load.
+    Font,
+    /// `plotters` failed to draw (its message).
+    Draw(String),
+    /// The PNG encoder failed.
+    Png(png::EncodingError),
+}
+
+impl std::fmt::Display for PlotError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PlotError::Font => f.write_str("the embedded plot font does not load"),
+            PlotError::Draw(m) => write!(f, "plot: {m}"),
+            PlotError::Png(e) => write!(f, "png: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for PlotError {}
+
+fn register_font() -> Result<(), PlotError> {
     static ONCE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     let ok = *ONCE.get_or_init(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()
     });
-    ok.then_some(())
-        .ok_or_else(|| StudyError("the embedded plot font does not load".into()))
+    ok.then_some(()).ok_or(PlotError::Font)
 }
 
+/// The integrator's colour in the one palette the window uses too ([`crate::palette`]).
 fn color(i: Integrator) -> RGBColor {
-    match i {
-        Integrator::ExplicitEuler => RGBColor(214, 39, 40),
-        Integrator::SemiImplicitEuler => RGBColor(31, 119, 180),
-        Integrator::VelocityVerlet => RGBColor(44, 160, 44),
-        Integrator::Midpoint => RGBColor(255, 127, 14),
-        Integrator::Rk4 => RGBColor(148, 103, 189),
-        Integrator::ImplicitEuler => RGBColor(140, 86, 75),
-        Integrator::Exact => RGBColor(127, 127, 127),
-    }
+    let [r, g, b, _] = crate::palette::integrator(i);
+    RGBColor(r, g, b)
 }
 
 /// (cost, error) per integrator for one cost axis.
@@ -168,30 +184,30 @@ fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, r: &StudyReport) -> Re
 }
 
 /// The diagram as SVG text.
-pub fn svg(r: &StudyReport) -> Result<String, StudyError> {
+pub fn svg(r: &StudyReport) -> Result<String, PlotError> {
     register_font()?;
     let mut text = String::new();
     {
         let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();
-        draw(root, r).map_err(|e| StudyError(format!("plot: {e}")))?;
+        draw(root, r).map_err(PlotError::Draw)?;
     }
     Ok(text)
 }
 
 /// The diagram as PNG bytes.
-pub fn png(r: &StudyReport) -> Result<Vec<u8>, StudyError> {
+pub fn png(r: &StudyReport) -> Result<Vec<u8>, PlotError> {
     register_font()?;
     let (w, h) = SIZE;
     let mut rgb = vec![0u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-        draw(root, r).map_err(|e| StudyError(format!("plot: {e}")))?;
+        draw(root, r).map_err(PlotError::Draw)?;
     }
     let mut out = Vec::new();
     let mut encoder = png::Encoder::new(&mut out, w, h);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
-    let encode = |e: png::EncodingError| StudyError(format!("png: {e}"));
+    let encode = PlotError::Png;
     let mut writer = encoder.write_header().map_err(encode)?;
     writer.write_image_data(&rgb).map_err(encode)?;
     writer.finish().map_err(encode)?;

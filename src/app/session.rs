@@ -69,6 +69,9 @@ pub struct Session {
     last_replay: Option<ReplayVerdict>,
     /// The last command or setting that was refused, for the panel.
     pub last_error: Option<String>,
+    /// Where recordings without a named file go ([`recording::DEFAULT_DIR`] under it); empty,
+    /// the default, is the working directory.
+    pub recordings_dir: PathBuf,
 }
 
 impl Session {
@@ -96,6 +99,7 @@ impl Session {
             replay: None,
             last_replay: None,
             last_error: None,
+            recordings_dir: PathBuf::new(),
         };
         session.build_lanes();
         session
@@ -246,7 +250,7 @@ impl Session {
         if let Command::SetIntegrator(i) = command
             && let Err(e) = check_integrator(i, self.lanes[0].sim.world.forces())
         {
-            self.last_error = Some(e);
+            self.last_error = Some(e.to_string());
             return;
         }
         for lane in &mut self.lanes {
@@ -318,8 +322,8 @@ impl Session {
             return Err("replaying: the step is the recording's".into());
         }
         let mut scene = self.scene.clone();
-        scene.set_dt(dt)?;
-        scene.set_substeps(substeps)?;
+        scene.set_dt(dt).map_err(|e| e.to_string())?;
+        scene.set_substeps(substeps).map_err(|e| e.to_string())?;
         let why = match (
             scene.timestep != self.scene.timestep,
             scene.substeps != self.scene.substeps,

@@ -187,14 +187,6 @@ impl Bodies {
         &self.radius
     }
 
-    /// Mass and reciprocal of the body at storage index `i`.
-    pub fn mass_of(&self, i: usize) -> Mass {
-        Mass {
-            m: self.mass[i],
-            inv: self.inv_mass[i],
-        }
-    }
-
     /// Velocity (m/s) of the body at storage index `i`, formed as the integrators form it.
     pub fn velocity(&self, i: usize) -> DVec3 {
         self.mv.get(i) * self.inv_mass[i]

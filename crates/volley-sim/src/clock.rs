@@ -88,11 +88,16 @@ pub struct FixedClock {
 
 /// Why a clock setting was refused.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ClockError(&'static str);
+pub enum ClockError {
+    /// A time scale that is not a finite number from 0 to 100 (the value given).
+    TimeScale(f64),
+}
 
 impl std::fmt::Display for ClockError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.0)
+        match self {
+            ClockError::TimeScale(_) => f.write_str("time scale must be a number from 0 to 100"),
+        }
     }
 }
 
@@ -238,7 +243,7 @@ impl FixedClock {
             self.time_scale = scale;
             Ok(())
         } else {
-            Err(ClockError("time scale must be a number from 0 to 100"))
+            Err(ClockError::TimeScale(scale))
         }
     }
 }

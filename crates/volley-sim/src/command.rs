@@ -24,7 +24,7 @@ use glam::DVec3;
 
 use crate::forces::ForceKind;
 use crate::integrate::Integrator;
-use crate::scene::{BodySpec, check_integrator};
+use crate::scene::{BodySpec, IntegratorError, check_integrator};
 use crate::world::{BodyId, World};
 
 /// A change applied to the world at a tick boundary.
@@ -72,20 +72,181 @@ pub struct Stamped {
 }
 
 /// Why a command could not be applied or parsed.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct CommandError(pub String);
+#[derive(Clone, Debug, PartialEq)]
+pub enum CommandError {
+    /// `despawn` of a body the world does not have.
+    NoSuchBody(BodyId),
+    /// `launch` with a value that is not finite, or a negative speed.
+    InvalidLaunch,
+    /// `force` of a term the scene does not declare.
+    UndeclaredForce {
+        /// The term asked for.
+        kind: ForceKind,
+        /// The terms the scene declares, in declaration order.
+        declared: Vec<ForceKind>,
+    },
+    /// An integrator the (resulting) forces refuse.
+    Integrator(IntegratorError),
+    /// `spawn` with a mass that is not a finite number > 0.
+    SpawnMass(f64),
+    /// `spawn` with a radius that is not a finite number >= 0.
+    SpawnRadius(f64),
+    /// `spawn` with a position or velocity that is not finite.
+    SpawnState,
+    /// A word that should be `key=value` is not.
+    ExpectedKeyValue(String),
+    /// A command that takes one argument got none or several.
+    ExpectedOne {
+        /// The command (`despawn`, `integrator`).
+        verb: &'static str,
+        /// What the argument is (`a body id`).
+        what: &'static str,
+    },
+    /// `despawn` of something that is not a body id.
+    InvalidBodyId(String),
+    /// `integrator` with a name that is not one.
+    UnknownIntegrator(String),
+    /// `force` with a term name that is not one.
+    UnknownForce(String),
+    /// `force` not of the form `force KIND on|off`.
+    ForceSyntax,
+    /// `launch` with a key other than speed, elevation, azimuth and position.
+    UnknownLaunchKey(String),
+    /// `spawn` with a key other than mass, radius, position and velocity.
+    UnknownSpawnKey(String),
+    /// A value that should be a finite number is not.
+    InvalidNumber {
+        /// The key it was given for.
+        key: &'static str,
+        /// The text given.
+        value: String,
+    },
+    /// A value that should be `x,y,z` has another number of parts.
+    InvalidVector {
+        /// The key it was given for.
+        key: &'static str,
+        /// The text given.
+        value: String,
+    },
+    /// A line that is no command.
+    UnknownCommand(String),
+}
 
 impl std::fmt::Display for CommandError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
+        match self {
+            CommandError::NoSuchBody(id) => write!(f, "despawn: there is no body {id}"),
+            CommandError::InvalidLaunch => {
+                f.write_str("launch: values must be finite and the speed >= 0")
+            }
+            CommandError::UndeclaredForce { kind, declared } => write!(
+                f,
+                "force: the scene does not declare {} (declared: {})",
+                kind.name(),
+                declared
+                    .iter()
+                    .map(|k| k.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            CommandError::Integrator(e) => write!(f, "{e}"),
+            CommandError::SpawnMass(m) => write!(f, "spawn: mass must be > 0, got {m}"),
+            CommandError::SpawnRadius(r) => write!(f, "spawn: radius must be >= 0, got {r}"),
+            CommandError::SpawnState => f.write_str("spawn: position and velocity must be finite"),
+            CommandError::ExpectedKeyValue(w) => write!(f, "expected key=value, got `{w}`"),
+            CommandError::ExpectedOne { verb, what } => write!(f, "{verb}: expected {what}"),
+            CommandError::InvalidBodyId(id) => {
+                write!(f, "despawn: expected a body id, got `{id}`")
+            }
+            CommandError::UnknownIntegrator(name) => {
+                let names: Vec<_> = Integrator::ALL.iter().map(|i| i.name()).collect();
+                write!(
+                    f,
+                    "integrator: unknown `{name}`, expected one of {}",
+                    names.join(", ")
+                )
+            }
+            CommandError::UnknownForce(kind) => {
+                let names: Vec<_> = ForceKind::ALL.iter().map(|k| k.name()).collect();
+                write!(
+                    f,
+                    "force: unknown term `{kind}`, expected one of {}",
+                    names.join(", ")
+                )
+            }
+            CommandError::ForceSyntax => f.write_str("force: expected `force KIND on|off`"),
+            CommandError::UnknownLaunchKey(key) => write!(
+                f,
+                "launch: unknown key `{key}`, expected speed, elevation, azimuth or position"
+            ),
+            CommandError::UnknownSpawnKey(key) => write!(
+                f,
+                "spawn: unknown key `{key}`, expected mass, radius, position or velocity"
+            ),
+            CommandError::InvalidNumber { key, value } => {
+                write!(f, "{key}: expected a finite number, got `{value}`")
+            }
+            CommandError::InvalidVector { key, value } => {
+                write!(f, "{key}: expected x,y,z, got `{value}`")
+            }
+            CommandError::UnknownCommand(text) => write!(
+                f,
+                "unknown command `{text}`, expected fire, spawn, despawn, launch, force, \
+                 integrator or reset"
+            ),
+        }
     }
 }
 
 impl std::error::Error for CommandError {}
 
-fn err<T>(message: impl Into<String>) -> Result<T, CommandError> {
-    Err(CommandError(message.into()))
+/// An error in a command script ([`parse_script`]): the file, the line and what is wrong there.
+/// Displays as `FILE:LINE: PROBLEM`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScriptError {
+    /// The file, as given to [`parse_script`].
+    pub file: String,
+    /// Line number, 1-based.
+    pub line: usize,
+    /// What is wrong on that line.
+    pub problem: ScriptProblem,
 }
+
+/// What is wrong on a line of a command script.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ScriptProblem {
+    /// No `TICK:` before the command.
+    ExpectedTick,
+    /// The tick is not a number (the text given).
+    InvalidTick(String),
+    /// The tick is before the previous line's.
+    TickGoesBack(u64),
+    /// The command does not parse.
+    Command(CommandError),
+}
+
+impl std::fmt::Display for ScriptError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{}: {}", self.file, self.line, self.problem)
+    }
+}
+
+impl std::fmt::Display for ScriptProblem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ScriptProblem::ExpectedTick => f.write_str("expected `TICK: COMMAND`"),
+            ScriptProblem::InvalidTick(tick) => {
+                write!(f, "expected a tick number, got `{tick}`")
+            }
+            ScriptProblem::TickGoesBack(tick) => {
+                write!(f, "tick {tick} comes after a later tick")
+            }
+            ScriptProblem::Command(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for ScriptError {}
 
 impl World {
     /// Applies one command at the current tick boundary.
@@ -106,7 +267,7 @@ impl World {
             }
             Command::Despawn(id) => {
                 if !self.despawn(id) {
-                    return err(format!("despawn: there is no body {id}"));
+                    return Err(CommandError::NoSuchBody(id));
                 }
             }
             Command::SetLaunch {
@@ -120,7 +281,7 @@ impl World {
                     || position.is_some_and(|p| !p.is_finite())
                     || speed.is_some_and(|s| s < 0.0)
                 {
-                    return err("launch: values must be finite and the speed >= 0");
+                    return Err(CommandError::InvalidLaunch);
                 }
                 let l = &mut self.launcher;
                 l.speed = speed.unwrap_or(l.speed);
@@ -131,15 +292,10 @@ impl World {
             Command::SetForce { kind, enabled } => {
                 let declared = self.scene.forces;
                 if !declared.has(kind) {
-                    return err(format!(
-                        "force: the scene does not declare {} (declared: {})",
-                        kind.name(),
-                        declared
-                            .kinds()
-                            .map(ForceKind::name)
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ));
+                    return Err(CommandError::UndeclaredForce {
+                        kind,
+                        declared: declared.kinds().collect(),
+                    });
                 }
                 let candidate = if enabled {
                     let only = declared.filtered(|k| k == kind);
@@ -154,11 +310,11 @@ impl World {
                 } else {
                     self.forces.without(kind)
                 };
-                check_integrator(self.integrator, &candidate).map_err(CommandError)?;
+                check_integrator(self.integrator, &candidate).map_err(CommandError::Integrator)?;
                 self.forces = candidate;
             }
             Command::SetIntegrator(integrator) => {
-                check_integrator(integrator, &self.forces).map_err(CommandError)?;
+                check_integrator(integrator, &self.forces).map_err(CommandError::Integrator)?;
                 self.integrator = integrator;
             }
             Command::Reset => {
@@ -178,13 +334,13 @@ impl World {
 
 fn check_spec(spec: &BodySpec) -> Result<(), CommandError> {
     if !(spec.mass.is_finite() && spec.mass > 0.0) {
-        return err(format!("spawn: mass must be > 0, got {}", spec.mass));
+        return Err(CommandError::SpawnMass(spec.mass));
     }
     if !(spec.radius.is_finite() && spec.radius >= 0.0) {
-        return err(format!("spawn: radius must be >= 0, got {}", spec.radius));
+        return Err(CommandError::SpawnRadius(spec.radius));
     }
     if !(spec.position.is_finite() && spec.velocity.is_finite()) {
-        return err("spawn: position and velocity must be finite");
+        return Err(CommandError::SpawnState);
     }
     Ok(())
 }
@@ -248,17 +404,23 @@ impl std::fmt::Display for Stamped {
     }
 }
 
-fn number(key: &str, value: &str) -> Result<f64, CommandError> {
+fn number(key: &'static str, value: &str) -> Result<f64, CommandError> {
     match value.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
-        _ => err(format!("{key}: expected a finite number, got `{value}`")),
+        _ => Err(CommandError::InvalidNumber {
+            key,
+            value: value.into(),
+        }),
     }
 }
 
-fn vector(key: &str, value: &str) -> Result<DVec3, CommandError> {
+fn vector(key: &'static str, value: &str) -> Result<DVec3, CommandError> {
     let parts: Vec<&str> = value.split(',').collect();
     if parts.len() != 3 {
-        return err(format!("{key}: expected x,y,z, got `{value}`"));
+        return Err(CommandError::InvalidVector {
+            key,
+            value: value.into(),
+        });
     }
     Ok(DVec3::new(
         number(key, parts[0])?,
@@ -279,67 +441,53 @@ impl std::str::FromStr for Command {
             rest.iter()
                 .map(|w| {
                     w.split_once('=')
-                        .ok_or_else(|| CommandError(format!("expected key=value, got `{w}`")))
+                        .ok_or_else(|| CommandError::ExpectedKeyValue(w.to_string()))
                 })
                 .collect()
         };
-        let single = |what: &str| -> Result<&str, CommandError> {
+        let single = |verb: &'static str, what: &'static str| -> Result<&str, CommandError> {
             match rest.as_slice() {
                 [one] => Ok(one),
-                _ => err(format!("{verb}: expected {what}")),
+                _ => Err(CommandError::ExpectedOne { verb, what }),
             }
         };
         match verb {
             "fire" if rest.is_empty() => Ok(Command::Fire),
             "reset" if rest.is_empty() => Ok(Command::Reset),
             "despawn" => {
-                let id = single("a body id")?;
+                let id = single("despawn", "a body id")?;
                 id.parse::<u64>()
                     .map(|id| Command::Despawn(BodyId(id)))
-                    .or_else(|_| err(format!("despawn: expected a body id, got `{id}`")))
+                    .map_err(|_| CommandError::InvalidBodyId(id.to_string()))
             }
             "integrator" => {
-                let name = single("an integrator name")?;
+                let name = single("integrator", "an integrator name")?;
                 Integrator::parse(name)
                     .map(Command::SetIntegrator)
-                    .ok_or_else(|| {
-                        let names: Vec<_> = Integrator::ALL.iter().map(|i| i.name()).collect();
-                        CommandError(format!(
-                            "integrator: unknown `{name}`, expected one of {}",
-                            names.join(", ")
-                        ))
-                    })
+                    .ok_or_else(|| CommandError::UnknownIntegrator(name.to_string()))
             }
             "force" => match rest.as_slice() {
                 [kind, state @ ("on" | "off")] => {
-                    let kind = ForceKind::parse(kind).ok_or_else(|| {
-                        let names: Vec<_> = ForceKind::ALL.iter().map(|k| k.name()).collect();
-                        CommandError(format!(
-                            "force: unknown term `{kind}`, expected one of {}",
-                            names.join(", ")
-                        ))
-                    })?;
+                    let kind = ForceKind::parse(kind)
+                        .ok_or_else(|| CommandError::UnknownForce(kind.to_string()))?;
                     Ok(Command::SetForce {
                         kind,
                         enabled: *state == "on",
                     })
                 }
-                _ => err("force: expected `force KIND on|off`"),
+                _ => Err(CommandError::ForceSyntax),
             },
             "launch" => {
                 let (mut speed, mut elevation_deg, mut azimuth_deg, mut position) =
                     (None, None, None, None);
                 for (key, value) in pairs()? {
                     match key {
-                        "speed" => speed = Some(number(key, value)?),
-                        "elevation" => elevation_deg = Some(number(key, value)?),
-                        "azimuth" => azimuth_deg = Some(number(key, value)?),
-                        "position" => position = Some(vector(key, value)?),
+                        "speed" => speed = Some(number("speed", value)?),
+                        "elevation" => elevation_deg = Some(number("elevation", value)?),
+                        "azimuth" => azimuth_deg = Some(number("azimuth", value)?),
+                        "position" => position = Some(vector("position", value)?),
                         _ => {
-                            return err(format!(
-                                "launch: unknown key `{key}`, expected speed, elevation, azimuth \
-                                 or position"
-                            ));
+                            return Err(CommandError::UnknownLaunchKey(key.to_string()));
                         }
                     }
                 }
@@ -359,49 +507,50 @@ impl std::str::FromStr for Command {
                 };
                 for (key, value) in pairs()? {
                     match key {
-                        "mass" => spec.mass = number(key, value)?,
-                        "radius" => spec.radius = number(key, value)?,
-                        "position" => spec.position = vector(key, value)?,
-                        "velocity" => spec.velocity = vector(key, value)?,
+                        "mass" => spec.mass = number("mass", value)?,
+                        "radius" => spec.radius = number("radius", value)?,
+                        "position" => spec.position = vector("position", value)?,
+                        "velocity" => spec.velocity = vector("velocity", value)?,
                         _ => {
-                            return err(format!(
-                                "spawn: unknown key `{key}`, expected mass, radius, position or \
-                                 velocity"
-                            ));
+                            return Err(CommandError::UnknownSpawnKey(key.to_string()));
                         }
                     }
                 }
                 check_spec(&spec)?;
                 Ok(Command::Spawn(spec))
             }
-            _ => err(format!(
-                "unknown command `{text}`, expected fire, spawn, despawn, launch, force, \
-                 integrator or reset"
-            )),
+            _ => Err(CommandError::UnknownCommand(text.to_string())),
         }
     }
 }
 
 /// Parses a command script; errors name the line.
-pub fn parse_script(text: &str, file: &str) -> Result<Vec<Stamped>, CommandError> {
+pub fn parse_script(text: &str, file: &str) -> Result<Vec<Stamped>, ScriptError> {
     let mut out: Vec<Stamped> = Vec::new();
     for (n, raw) in text.lines().enumerate() {
         let line = raw.split('#').next().unwrap_or("").trim();
         if line.is_empty() {
             continue;
         }
-        let at = |message: String| CommandError(format!("{file}:{}: {message}", n + 1));
+        let at = |problem: ScriptProblem| ScriptError {
+            file: file.to_string(),
+            line: n + 1,
+            problem,
+        };
         let (tick, command) = line
             .split_once(':')
-            .ok_or_else(|| at("expected `TICK: COMMAND`".into()))?;
+            .ok_or_else(|| at(ScriptProblem::ExpectedTick))?;
         let tick: u64 = tick
             .trim()
             .parse()
-            .map_err(|_| at(format!("expected a tick number, got `{}`", tick.trim())))?;
+            .map_err(|_| at(ScriptProblem::InvalidTick(tick.trim().to_string())))?;
         if out.last().is_some_and(|last| last.tick > tick) {
-            return Err(at(format!("tick {tick} comes after a later tick")));
+            return Err(at(ScriptProblem::TickGoesBack(tick)));
         }
-        let command: Command = command.trim().parse().map_err(|e: CommandError| at(e.0))?;
+        let command: Command = command
+            .trim()
+            .parse()
+            .map_err(|e| at(ScriptProblem::Command(e)))?;
         out.push(Stamped { tick, command });
     }
     Ok(out)
@@ -444,8 +593,118 @@ mod tests {
     #[test]
     fn script_errors_name_the_line() {
         let e = parse_script("# intro\n0: fire\n5: warp 9\n", "s.txt").unwrap_err();
-        assert!(e.0.starts_with("s.txt:3: unknown command"), "{e}");
+        assert!(
+            matches!(&e, ScriptError { file, line: 3, problem: ScriptProblem::Command(
+                CommandError::UnknownCommand(_)) } if file == "s.txt"),
+            "{e:?}"
+        );
+        assert!(e.to_string().starts_with("s.txt:3: unknown command"), "{e}");
         let e = parse_script("5: fire\n4: fire\n", "s.txt").unwrap_err();
-        assert!(e.0.starts_with("s.txt:2:"), "{e}");
+        assert_eq!((e.line, e.problem), (2, ScriptProblem::TickGoesBack(4)));
+    }
+
+    /// Every variant prints the message it printed when errors were strings.
+    #[test]
+    fn error_messages_are_pinned() {
+        let parse = |text: &str| text.parse::<Command>().unwrap_err();
+        let script = |text: &str| parse_script(text, "s.txt").unwrap_err().to_string();
+        let cases: [(CommandError, &str); 19] = [
+            (
+                CommandError::NoSuchBody(BodyId(7)),
+                "despawn: there is no body 7",
+            ),
+            (
+                CommandError::InvalidLaunch,
+                "launch: values must be finite and the speed >= 0",
+            ),
+            (
+                CommandError::UndeclaredForce {
+                    kind: ForceKind::Spring,
+                    declared: vec![ForceKind::Gravity, ForceKind::LinearDrag],
+                },
+                "force: the scene does not declare Spring (declared: Gravity, LinearDrag)",
+            ),
+            (
+                CommandError::Integrator(IntegratorError::NoClosedForm(ForceKind::QuadraticDrag)),
+                "`exact` needs a closed form, and force term QuadraticDrag has none (exact covers \
+                 Gravity, ConstantForce and LinearDrag); choose another integrator",
+            ),
+            (parse("spawn mass=0"), "spawn: mass must be > 0, got 0"),
+            (
+                parse("spawn radius=-1"),
+                "spawn: radius must be >= 0, got -1",
+            ),
+            (
+                CommandError::SpawnState,
+                "spawn: position and velocity must be finite",
+            ),
+            (parse("spawn mass"), "expected key=value, got `mass`"),
+            (parse("despawn"), "despawn: expected a body id"),
+            (
+                parse("integrator"),
+                "integrator: expected an integrator name",
+            ),
+            (parse("despawn x"), "despawn: expected a body id, got `x`"),
+            (
+                parse("integrator leapfrog"),
+                "integrator: unknown `leapfrog`, expected one of explicit-euler, \
+                 semi-implicit-euler, verlet, midpoint, rk4, implicit-euler, exact",
+            ),
+            (
+                parse("force Antigravity on"),
+                "force: unknown term `Antigravity`, expected one of Gravity, ConstantForce, \
+                 LinearDrag, QuadraticDrag, Spring, PointMass",
+            ),
+            (
+                parse("force Gravity"),
+                "force: expected `force KIND on|off`",
+            ),
+            (
+                parse("launch warp=9"),
+                "launch: unknown key `warp`, expected speed, elevation, azimuth or position",
+            ),
+            (
+                parse("spawn warp=9"),
+                "spawn: unknown key `warp`, expected mass, radius, position or velocity",
+            ),
+            (
+                parse("launch speed=fast"),
+                "speed: expected a finite number, got `fast`",
+            ),
+            (
+                parse("spawn position=1,2"),
+                "position: expected x,y,z, got `1,2`",
+            ),
+            (
+                parse("warp 9"),
+                "unknown command `warp 9`, expected fire, spawn, despawn, launch, force, \
+                 integrator or reset",
+            ),
+        ];
+        for (error, message) in cases {
+            assert_eq!(error.to_string(), message, "{error:?}");
+        }
+        assert_eq!(script("fire\n"), "s.txt:1: expected `TICK: COMMAND`");
+        assert_eq!(
+            script("0: fire\nx: fire"),
+            "s.txt:2: expected a tick number, got `x`"
+        );
+        assert_eq!(
+            script("5: fire\n4: fire\n"),
+            "s.txt:2: tick 4 comes after a later tick"
+        );
+        assert_eq!(
+            script("0: fire\n3: warp 9"),
+            "s.txt:2: unknown command `warp 9`, expected fire, spawn, despawn, launch, force, \
+             integrator or reset"
+        );
+        assert_eq!(parse("spawn mass=0"), CommandError::SpawnMass(0.0));
+        assert_eq!(
+            parse("spawn position=1,2"),
+            CommandError::InvalidVector {
+                key: "position",
+                value: "1,2".into(),
+            }
+        );
     }
 }

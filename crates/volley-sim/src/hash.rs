@@ -266,19 +266,41 @@ pub fn hex(hash: u64) -> String {
 
 /// Parses a hash as [`hex`] prints it: 16 hex digits, `0x` optional, any case. Fewer digits
 /// are refused: a hash cut short in a copy is a mistake to report, not a different hash.
-pub fn parse_hex(text: &str) -> Result<u64, String> {
+pub fn parse_hex(text: &str) -> Result<u64, ParseHashError> {
     let digits = text
         .strip_prefix("0x")
         .or_else(|| text.strip_prefix("0X"))
         .unwrap_or(text);
-    let valid = digits.len() == 16 && digits.bytes().all(|b| b.is_ascii_hexdigit());
-    match valid {
-        true => u64::from_str_radix(digits, 16).map_err(|e| e.to_string()),
-        false => Err(format!(
+    if digits.len() != 16 {
+        return Err(ParseHashError::Length(text.to_string()));
+    }
+    if !digits.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return Err(ParseHashError::NotHex(text.to_string()));
+    }
+    u64::from_str_radix(digits, 16).map_err(|_| ParseHashError::NotHex(text.to_string()))
+}
+
+/// Why [`parse_hex`] refused a text (the text given is in each variant). Both say what a hash
+/// looks like, in the same words.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ParseHashError {
+    /// Not 16 digits after the optional `0x`.
+    Length(String),
+    /// 16 characters after the optional `0x`, not all of them hex digits.
+    NotHex(String),
+}
+
+impl std::fmt::Display for ParseHashError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (ParseHashError::Length(text) | ParseHashError::NotHex(text)) = self;
+        write!(
+            f,
             "expected a state hash as volley prints it (0x and 16 hex digits), got `{text}`"
-        )),
+        )
     }
 }
+
+impl std::error::Error for ParseHashError {}
 
 #[cfg(test)]
 mod tests {
@@ -338,6 +360,24 @@ mod tests {
             "+e02a9ef4a1ddb321",
         ] {
             assert!(parse_hex(bad).is_err(), "{bad:?}");
+        }
+        assert!(matches!(parse_hex("0xabc"), Err(ParseHashError::Length(t)) if t == "0xabc"));
+        assert!(matches!(
+            parse_hex("0xe02a9ef4a1ddb32g"),
+            Err(ParseHashError::NotHex(_))
+        ));
+    }
+
+    #[test]
+    fn parse_errors_print_as_they_did() {
+        for bad in ["0xabc", "0xe02a9ef4a1ddb32g"] {
+            assert_eq!(
+                parse_hex(bad).unwrap_err().to_string(),
+                format!(
+                    "expected a state hash as volley prints it (0x and 16 hex digits), got \
+                     `{bad}`"
+                )
+            );
         }
     }
 

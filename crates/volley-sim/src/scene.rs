@@ -11,7 +11,7 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::contact::{Detection, Ground, Target, Wall};
-use crate::exact::{Arc, aim};
+use crate::exact::{AimError, Arc, aim};
 use crate::forces::{ForceKind, Forces, PointMass, Spring};
 use crate::integrate::Integrator;
 
@@ -68,24 +68,22 @@ pub struct Scene {
 
 impl Scene {
     /// Overrides the integrator, refusing `exact` where a declared force has no closed form.
-    pub fn set_integrator(&mut self, integrator: Integrator) -> Result<(), String> {
+    pub fn set_integrator(&mut self, integrator: Integrator) -> Result<(), IntegratorError> {
         check_integrator(integrator, &self.forces)?;
         self.integrator = integrator;
         Ok(())
     }
 
     /// Overrides the timestep (s), rounded to whole nanoseconds.
-    pub fn set_dt(&mut self, dt: f64) -> Result<(), String> {
-        self.timestep = timestep_from_secs("dt", dt).map_err(|(f, m)| format!("{f}: {m}"))?;
+    pub fn set_dt(&mut self, dt: f64) -> Result<(), InvalidValue> {
+        self.timestep = timestep_from_secs("dt", dt)?;
         Ok(())
     }
 
     /// Overrides the substeps per tick (at least 1).
-    pub fn set_substeps(&mut self, substeps: u32) -> Result<(), String> {
+    pub fn set_substeps(&mut self, substeps: u32) -> Result<(), InvalidValue> {
         if !(1..=MAX_SUBSTEPS).contains(&substeps) {
-            return Err(format!(
-                "substeps: expected 1 to {MAX_SUBSTEPS}, got {substeps}"
-            ));
+            return Err(invalid("substeps", ValueProblem::Substeps(substeps)));
         }
         self.substeps = substeps;
         Ok(())
@@ -371,95 +369,193 @@ pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Scene, SceneE
         field: None,
         message: e.code.to_string(),
     })?;
-    let invalid = |field: String, message: String| SceneError {
+    validate(raw, text, default_name).map_err(|e| SceneError {
         file: file.to_string(),
         position: None,
-        field: Some(field),
-        message,
-    };
-    validate(raw, text, default_name).map_err(|(field, message)| invalid(field, message))
+        message: e.problem.to_string(),
+        field: Some(e.field),
+    })
 }
 
-type Invalid = (String, String);
+/// A value that fails its check: the field path it was given for (`bodies[1].mass`, `dt`) and
+/// what is wrong with it. Displays as `FIELD: PROBLEM`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InvalidValue {
+    /// Field path, e.g. `bodies[0].mass`, `dt`, `substeps`.
+    pub field: String,
+    /// What is wrong and what was expected.
+    pub problem: ValueProblem,
+}
 
-fn finite(field: &str, x: f64) -> Result<f64, Invalid> {
+impl std::fmt::Display for InvalidValue {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.field, self.problem)
+    }
+}
+
+impl std::error::Error for InvalidValue {}
+
+/// What is wrong with a value in a scene (or an override of one), carrying the value given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ValueProblem {
+    /// A number that must be finite is not.
+    NotFinite(f64),
+    /// A number that must be finite and > 0 is not.
+    NotPositive(f64),
+    /// A number that must be finite and >= 0 is not.
+    NotNonNegative(f64),
+    /// A number that must be from 0 to 1 is not.
+    NotUnitInterval(f64),
+    /// A vector with a component that is not finite.
+    NotFiniteVector(DVec3),
+    /// A vector that must have a direction (a wall normal) is zero.
+    ZeroVector,
+    /// A timestep (s) that rounds to less than 1 ns or more than 1000 s.
+    Step(f64),
+    /// Substeps per tick outside 1 to [`MAX_SUBSTEPS`].
+    Substeps(u32),
+    /// A volley of more than [`MAX_VOLLEY`] bodies.
+    VolleyCount(u32),
+    /// A guard energy factor that is not a finite number > 1.
+    EnergyFactor(f64),
+    /// A force term declared a second time.
+    DuplicateForce(ForceKind),
+    /// An `Aim` launch in a scene without gravity along -z.
+    AimNeedsGravity,
+    /// An `Aim` launch with no solution.
+    CannotAim(AimError),
+    /// An integrator the declared forces refuse.
+    Integrator(IntegratorError),
+}
+
+impl std::fmt::Display for ValueProblem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ValueProblem::NotFinite(x) => write!(f, "expected a finite number, got {x}"),
+            ValueProblem::NotPositive(x) => write!(f, "expected a finite number > 0, got {x}"),
+            ValueProblem::NotNonNegative(x) => {
+                write!(f, "expected a finite number >= 0, got {x}")
+            }
+            ValueProblem::NotUnitInterval(x) => {
+                write!(f, "expected a number from 0 to 1, got {x}")
+            }
+            ValueProblem::NotFiniteVector(v) => write!(f, "expected finite components, got {v}"),
+            ValueProblem::ZeroVector => f.write_str("expected a non-zero vector"),
+            ValueProblem::Step(dt) => {
+                write!(f, "expected a step from 1 ns to 1000 s, got {dt} s")
+            }
+            ValueProblem::Substeps(n) => write!(f, "expected 1 to {MAX_SUBSTEPS}, got {n}"),
+            ValueProblem::VolleyCount(n) => {
+                write!(f, "expected at most {MAX_VOLLEY} bodies, got {n}")
+            }
+            ValueProblem::EnergyFactor(x) => write!(f, "expected a finite number > 1, got {x}"),
+            ValueProblem::DuplicateForce(kind) => write!(
+                f,
+                "{} is declared twice; declare each term once",
+                kind.name()
+            ),
+            ValueProblem::AimNeedsGravity => {
+                f.write_str("Aim needs a Gravity term pointing along -z")
+            }
+            ValueProblem::CannotAim(e) => write!(f, "cannot aim: {e}"),
+            ValueProblem::Integrator(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+/// Why an integrator cannot run a scene's forces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorError {
+    /// `exact` was asked for, and this declared force term has no closed form.
+    NoClosedForm(ForceKind),
+}
+
+impl std::fmt::Display for IntegratorError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            IntegratorError::NoClosedForm(kind) => write!(
+                f,
+                "`exact` needs a closed form, and force term {} has none (exact covers Gravity, \
+                 ConstantForce and LinearDrag); choose another integrator",
+                kind.name()
+            ),
+        }
+    }
+}
+
+impl std::error::Error for IntegratorError {}
+
+fn invalid(field: impl Into<String>, problem: ValueProblem) -> InvalidValue {
+    InvalidValue {
+        field: field.into(),
+        problem,
+    }
+}
+
+fn finite(field: &str, x: f64) -> Result<f64, InvalidValue> {
     if x.is_finite() {
         Ok(x)
     } else {
-        Err((field.into(), format!("expected a finite number, got {x}")))
+        Err(invalid(field, ValueProblem::NotFinite(x)))
     }
 }
 
-fn positive(field: &str, x: f64) -> Result<f64, Invalid> {
+fn positive(field: &str, x: f64) -> Result<f64, InvalidValue> {
     if x.is_finite() && x > 0.0 {
         Ok(x)
     } else {
-        Err((
-            field.into(),
-            format!("expected a finite number > 0, got {x}"),
-        ))
+        Err(invalid(field, ValueProblem::NotPositive(x)))
     }
 }
 
-fn non_negative(field: &str, x: f64) -> Result<f64, Invalid> {
+fn non_negative(field: &str, x: f64) -> Result<f64, InvalidValue> {
     if x.is_finite() && x >= 0.0 {
         Ok(x)
     } else {
-        Err((
-            field.into(),
-            format!("expected a finite number >= 0, got {x}"),
-        ))
+        Err(invalid(field, ValueProblem::NotNonNegative(x)))
     }
 }
 
-fn unit_interval(field: &str, x: f64) -> Result<f64, Invalid> {
+fn unit_interval(field: &str, x: f64) -> Result<f64, InvalidValue> {
     if (0.0..=1.0).contains(&x) {
         Ok(x)
     } else {
-        Err((
-            field.into(),
-            format!("expected a number from 0 to 1, got {x}"),
-        ))
+        Err(invalid(field, ValueProblem::NotUnitInterval(x)))
     }
 }
 
-fn finite3(field: &str, v: DVec3) -> Result<DVec3, Invalid> {
+fn finite3(field: &str, v: DVec3) -> Result<DVec3, InvalidValue> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err((field.into(), format!("expected finite components, got {v}")))
+        Err(invalid(field, ValueProblem::NotFiniteVector(v)))
     }
 }
 
-/// Converts a step in seconds to whole nanoseconds, the clock's unit.
-pub fn timestep_from_secs(field: &str, dt: f64) -> Result<Duration, Invalid> {
+/// Converts a step in seconds to whole nanoseconds, the clock's unit; errors name `field`.
+pub fn timestep_from_secs(field: &str, dt: f64) -> Result<Duration, InvalidValue> {
     let dt = positive(field, dt)?;
     let nanos = (dt * 1e9).round();
     if !(1.0..=1e12).contains(&nanos) {
-        return Err((
-            field.into(),
-            format!("expected a step from 1 ns to 1000 s, got {dt} s"),
-        ));
+        return Err(invalid(field, ValueProblem::Step(dt)));
     }
     Ok(Duration::from_nanos(nanos as u64))
 }
 
-fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Invalid> {
+fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, InvalidValue> {
     let timestep = timestep_from_secs("dt", raw.dt)?;
     let start_time = finite("start_time", raw.start_time)?;
     let duration = non_negative("duration", raw.duration)?;
     let integrator = raw.integrator;
     if !(1..=MAX_SUBSTEPS).contains(&raw.substeps) {
-        return Err((
-            "substeps".into(),
-            format!("expected 1 to {MAX_SUBSTEPS}, got {}", raw.substeps),
-        ));
+        return Err(invalid("substeps", ValueProblem::Substeps(raw.substeps)));
     }
     let forces = validate_forces(&raw.forces)?;
-    check_integrator(integrator, &forces).map_err(|m| ("integrator".to_string(), m))?;
+    check_integrator(integrator, &forces)
+        .map_err(|e| invalid("integrator", ValueProblem::Integrator(e)))?;
     let ground = raw
         .ground
-        .map(|g| -> Result<Ground, Invalid> {
+        .map(|g| -> Result<Ground, InvalidValue> {
             finite("ground.height", g.height)?;
             unit_interval("ground.restitution", g.restitution)?;
             Ok(g)
@@ -487,21 +583,15 @@ fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Inva
     };
     if let Some(v) = raw.volley {
         if v.count > MAX_VOLLEY {
-            return Err((
-                "volley.count".into(),
-                format!("expected at most {MAX_VOLLEY} bodies, got {}", v.count),
-            ));
+            return Err(invalid("volley.count", ValueProblem::VolleyCount(v.count)));
         }
         non_negative("volley.speed_spread", v.speed_spread)?;
         non_negative("volley.angle_spread_deg", v.angle_spread_deg)?;
     }
     if !(raw.guard.energy_factor.is_finite() && raw.guard.energy_factor > 1.0) {
-        return Err((
-            "guard.energy_factor".into(),
-            format!(
-                "expected a finite number > 1, got {}",
-                raw.guard.energy_factor
-            ),
+        return Err(invalid(
+            "guard.energy_factor",
+            ValueProblem::EnergyFactor(raw.guard.energy_factor),
         ));
     }
     Ok(Scene {
@@ -527,29 +617,19 @@ fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Inva
 }
 
 /// Refuses `exact` for forces without a closed form, naming the force.
-pub fn check_integrator(integrator: Integrator, forces: &Forces) -> Result<(), String> {
+pub fn check_integrator(integrator: Integrator, forces: &Forces) -> Result<(), IntegratorError> {
     match (integrator, forces.without_closed_form()) {
-        (Integrator::Exact, Some(kind)) => Err(format!(
-            "`exact` needs a closed form, and force term {} has none (exact covers Gravity, \
-             ConstantForce and LinearDrag); choose another integrator",
-            kind.name()
-        )),
+        (Integrator::Exact, Some(kind)) => Err(IntegratorError::NoClosedForm(kind)),
         _ => Ok(()),
     }
 }
 
-fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, Invalid> {
+fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, InvalidValue> {
     let mut forces = Forces::default();
     for (i, term) in terms.iter().enumerate() {
         let field = format!("forces[{i}]");
         if forces.has(term.kind()) {
-            return Err((
-                field,
-                format!(
-                    "{} is declared twice; declare each term once",
-                    term.kind().name()
-                ),
-            ));
+            return Err(invalid(field, ValueProblem::DuplicateForce(term.kind())));
         }
         match *term {
             ForceTerm::Gravity(g) => forces.gravity = Some(finite3(&field, g)?),
@@ -580,21 +660,18 @@ fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, Invalid> {
     Ok(forces)
 }
 
-fn validate_wall(i: usize, w: &Wall) -> Result<Wall, Invalid> {
+fn validate_wall(i: usize, w: &Wall) -> Result<Wall, InvalidValue> {
     finite3(&format!("walls[{i}].point"), w.point)?;
     let n = finite3(&format!("walls[{i}].normal"), w.normal)?;
-    let unit = n.try_normalize().ok_or_else(|| {
-        (
-            format!("walls[{i}].normal"),
-            "expected a non-zero vector".to_string(),
-        )
-    })?;
+    let unit = n
+        .try_normalize()
+        .ok_or_else(|| invalid(format!("walls[{i}].normal"), ValueProblem::ZeroVector))?;
     positive(&format!("walls[{i}].thickness"), w.thickness)?;
     unit_interval(&format!("walls[{i}].restitution"), w.restitution)?;
     Ok(Wall { normal: unit, ..*w })
 }
 
-fn validate_body(i: usize, b: &RawBody, forces: &Forces) -> Result<BodySpec, Invalid> {
+fn validate_body(i: usize, b: &RawBody, forces: &Forces) -> Result<BodySpec, InvalidValue> {
     let at = |f: &str| format!("bodies[{i}].{f}");
     let mass = positive(&at("mass"), b.mass)?;
     let radius = non_negative(&at("radius"), b.radius)?;
@@ -616,13 +693,10 @@ fn validate_body(i: usize, b: &RawBody, forces: &Forces) -> Result<BodySpec, Inv
             positive(&at("launch.speed"), speed)?;
             let g = forces.gravity.unwrap_or(DVec3::ZERO);
             if g.x != 0.0 || g.y != 0.0 || g.z >= 0.0 {
-                return Err((
-                    at("launch"),
-                    "Aim needs a Gravity term pointing along -z".to_string(),
-                ));
+                return Err(invalid(at("launch"), ValueProblem::AimNeedsGravity));
             }
             let [high, low] = aim(position, target, speed, -g.z)
-                .map_err(|e| (at("launch"), format!("cannot aim: {e}")))?;
+                .map_err(|e| invalid(at("launch"), ValueProblem::CannotAim(e)))?;
             match arc {
                 Arc::High => high.velocity,
                 Arc::Low => low.velocity,
@@ -637,7 +711,7 @@ fn validate_body(i: usize, b: &RawBody, forces: &Forces) -> Result<BodySpec, Inv
     })
 }
 
-fn validate_launcher(l: Launcher) -> Result<Launcher, Invalid> {
+fn validate_launcher(l: Launcher) -> Result<Launcher, InvalidValue> {
     finite3("launcher.position", l.position)?;
     non_negative("launcher.speed", l.speed)?;
     finite("launcher.elevation_deg", l.elevation_deg)?;
@@ -716,5 +790,116 @@ mod tests {
         let text = r#"Scene(dt: 0.01, integrator: Exact, forces: [Gravity((0,0,-9.81)), QuadraticDrag(0.1)])"#;
         let err = parse(text, "x.ron", "x").unwrap_err();
         assert!(err.message.contains("QuadraticDrag"), "{err}");
+    }
+
+    #[test]
+    fn overrides_refuse_with_the_field_and_the_problem() {
+        let mut scene = parse(MINIMAL, "mem.ron", "mem").unwrap();
+        let e = scene.set_dt(-1.0).unwrap_err();
+        assert_eq!(e.field, "dt");
+        assert_eq!(e.problem, ValueProblem::NotPositive(-1.0));
+        assert!(matches!(
+            scene.set_dt(1e-12),
+            Err(InvalidValue {
+                problem: ValueProblem::Step(_),
+                ..
+            })
+        ));
+        assert_eq!(
+            scene.set_substeps(0).unwrap_err().problem,
+            ValueProblem::Substeps(0)
+        );
+        scene.forces.quadratic_drag = Some(0.1);
+        assert_eq!(
+            scene.set_integrator(Integrator::Exact),
+            Err(IntegratorError::NoClosedForm(ForceKind::QuadraticDrag))
+        );
+    }
+
+    /// Every problem prints the message it printed when these errors were strings.
+    #[test]
+    fn error_messages_are_pinned() {
+        let at = |field: &str, problem| InvalidValue {
+            field: field.into(),
+            problem,
+        };
+        let no_closed_form = IntegratorError::NoClosedForm(ForceKind::Spring);
+        let cases: [(InvalidValue, &str); 14] = [
+            (
+                at("start_time", ValueProblem::NotFinite(f64::NAN)),
+                "start_time: expected a finite number, got NaN",
+            ),
+            (
+                at("bodies[0].mass", ValueProblem::NotPositive(-1.0)),
+                "bodies[0].mass: expected a finite number > 0, got -1",
+            ),
+            (
+                at("duration", ValueProblem::NotNonNegative(-0.5)),
+                "duration: expected a finite number >= 0, got -0.5",
+            ),
+            (
+                at("ground.restitution", ValueProblem::NotUnitInterval(1.5)),
+                "ground.restitution: expected a number from 0 to 1, got 1.5",
+            ),
+            (
+                at(
+                    "walls[0].point",
+                    ValueProblem::NotFiniteVector(DVec3::new(1.0, f64::INFINITY, 0.0)),
+                ),
+                "walls[0].point: expected finite components, got [1, inf, 0]",
+            ),
+            (
+                at("walls[1].normal", ValueProblem::ZeroVector),
+                "walls[1].normal: expected a non-zero vector",
+            ),
+            (
+                timestep_from_secs("dt", 1e-12).unwrap_err(),
+                "dt: expected a step from 1 ns to 1000 s, got 0.000000000001 s",
+            ),
+            (
+                at("substeps", ValueProblem::Substeps(0)),
+                "substeps: expected 1 to 10000, got 0",
+            ),
+            (
+                at("volley.count", ValueProblem::VolleyCount(20_000_000)),
+                "volley.count: expected at most 10000000 bodies, got 20000000",
+            ),
+            (
+                at("guard.energy_factor", ValueProblem::EnergyFactor(1.0)),
+                "guard.energy_factor: expected a finite number > 1, got 1",
+            ),
+            (
+                at(
+                    "forces[1]",
+                    ValueProblem::DuplicateForce(ForceKind::Gravity),
+                ),
+                "forces[1]: Gravity is declared twice; declare each term once",
+            ),
+            (
+                at("bodies[0].launch", ValueProblem::AimNeedsGravity),
+                "bodies[0].launch: Aim needs a Gravity term pointing along -z",
+            ),
+            (
+                at(
+                    "bodies[0].launch",
+                    ValueProblem::CannotAim(AimError::SamePoint),
+                ),
+                "bodies[0].launch: cannot aim: launch point and target are the same point",
+            ),
+            (
+                at("integrator", ValueProblem::Integrator(no_closed_form)),
+                "integrator: `exact` needs a closed form, and force term Spring has none (exact \
+                 covers Gravity, ConstantForce and LinearDrag); choose another integrator",
+            ),
+        ];
+        for (error, message) in cases {
+            assert_eq!(error.to_string(), message, "{error:?}");
+        }
+        // A scene file's value error is the same text after the file name.
+        let err = parse(&MINIMAL.replace("0.01", "0"), "x.ron", "x").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "x.ron: dt: expected a finite number > 0, got 0"
+        );
     }
 }

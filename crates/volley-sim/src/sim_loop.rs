@@ -53,7 +53,57 @@ impl TickObserver for () {
     }
 }
 
+/// A borrowed observer is an observer, so a pair can hold observers its caller keeps.
+impl<T: TickObserver + ?Sized> TickObserver for &mut T {
+    fn on_command(&mut self, world: &World, stamped: &Stamped) -> Result<(), ObserverError> {
+        (**self).on_command(world, stamped)
+    }
+    fn before_last_tick(&mut self, world: &World) {
+        (**self).before_last_tick(world);
+    }
+    fn after_tick(&mut self, world: &World) -> Result<(), ObserverError> {
+        (**self).after_tick(world)
+    }
+    fn on_divergence(&mut self, world: &World, divergence: &Divergence) {
+        (**self).on_divergence(world, divergence);
+    }
+    fn next_needed_tick(&self, tick: u64) -> u64 {
+        (**self).next_needed_tick(tick)
+    }
+}
+
+/// A pair of observers is an observer: every call goes to the first, then to the second (an
+/// error from the first stops the call there, as it stops the loop), and the pair needs the
+/// earlier of the ticks either needs. `(table, frames)` replaces hand-written forwarding.
+impl<A: TickObserver, B: TickObserver> TickObserver for (A, B) {
+    fn on_command(&mut self, world: &World, stamped: &Stamped) -> Result<(), ObserverError> {
+        self.0.on_command(world, stamped)?;
+        self.1.on_command(world, stamped)
+    }
+    fn before_last_tick(&mut self, world: &World) {
+        self.0.before_last_tick(world);
+        self.1.before_last_tick(world);
+    }
+    fn after_tick(&mut self, world: &World) -> Result<(), ObserverError> {
+        self.0.after_tick(world)?;
+        self.1.after_tick(world)
+    }
+    fn on_divergence(&mut self, world: &World, divergence: &Divergence) {
+        self.0.on_divergence(world, divergence);
+        self.1.on_divergence(world, divergence);
+    }
+    fn next_needed_tick(&self, tick: u64) -> u64 {
+        self.0
+            .next_needed_tick(tick)
+            .min(self.1.next_needed_tick(tick))
+    }
+}
+
 /// An observer failed (a write error, a full disk); the loop stops.
+///
+/// This one stays a message: observers are any code on the loop (the window's renderer, a
+/// caller's own [`TickObserver`]), so their failures are not a closed set the simulation could
+/// name; the message is what the observer says, shown as it is.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ObserverError(pub String);
 
@@ -76,8 +126,9 @@ pub enum LoopError {
         tick: u64,
         /// The command.
         command: Command,
-        /// Why.
-        error: CommandError,
+        /// Why (boxed: the error is rare, and a boxed one keeps every `Result` of the loop
+        /// small).
+        error: Box<CommandError>,
     },
     /// An observer failed.
     Observer(ObserverError),
@@ -243,7 +294,7 @@ impl SimLoop {
                 .map_err(|error| LoopError::Command {
                     tick: due.tick,
                     command: due.command,
-                    error,
+                    error: Box::new(error),
                 })?;
             observer.on_command(&self.world, &applied)?;
         }
@@ -282,5 +333,118 @@ impl SimLoop {
         })();
         self.stop_at = previous;
         result
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Logs its calls into a shared list, needs every `every`-th tick, and can fail after ticks.
+    struct Log<'a> {
+        name: &'static str,
+        every: u64,
+        fail: bool,
+        calls: &'a std::cell::RefCell<Vec<String>>,
+    }
+
+    impl TickObserver for Log<'_> {
+        fn on_command(&mut self, _: &World, s: &Stamped) -> Result<(), ObserverError> {
+            self.calls
+                .borrow_mut()
+                .push(format!("{} command {}", self.name, s.tick));
+            Ok(())
+        }
+        fn before_last_tick(&mut self, w: &World) {
+            self.calls
+                .borrow_mut()
+                .push(format!("{} before {}", self.name, w.tick()));
+        }
+        fn after_tick(&mut self, w: &World) -> Result<(), ObserverError> {
+            self.calls
+                .borrow_mut()
+                .push(format!("{} after {}", self.name, w.tick()));
+            match self.fail {
+                true => Err(ObserverError(format!("{} failed", self.name))),
+                false => Ok(()),
+            }
+        }
+        fn next_needed_tick(&self, tick: u64) -> u64 {
+            next_multiple(tick, self.every)
+        }
+    }
+
+    fn world() -> World {
+        let scene = crate::scene::parse(
+            "Scene(dt: 0.1, integrator: SemiImplicitEuler, forces: [Gravity((0, 0, -10))],
+                   bodies: [(mass: 1, position: (0, 0, 100))])",
+            "pair.ron",
+            "pair",
+        )
+        .unwrap();
+        World::new(&scene)
+    }
+
+    #[test]
+    fn a_pair_calls_the_first_then_the_second_and_needs_the_earlier_tick() {
+        let calls = std::cell::RefCell::new(Vec::new());
+        let a = Log {
+            name: "a",
+            every: 4,
+            fail: false,
+            calls: &calls,
+        };
+        let b = Log {
+            name: "b",
+            every: 3,
+            fail: false,
+            calls: &calls,
+        };
+        let mut pair = (a, b);
+        assert_eq!(pair.next_needed_tick(0), 3);
+        assert_eq!(pair.next_needed_tick(3), 4);
+        let mut sim = SimLoop::new(world());
+        sim.push(Command::Fire);
+        let mut by_ref = (&mut pair, ());
+        // `()` needs no tick, so the borrowed pair decides.
+        assert_eq!(by_ref.next_needed_tick(0), 3);
+        sim.frame(Duration::from_millis(100), &mut by_ref).unwrap();
+        assert_eq!(
+            *calls.borrow(),
+            [
+                "a command 0",
+                "b command 0",
+                "a before 0",
+                "b before 0",
+                "a after 1",
+                "b after 1"
+            ]
+        );
+    }
+
+    #[test]
+    fn an_error_from_the_first_stops_the_call_there() {
+        let calls = std::cell::RefCell::new(Vec::new());
+        let a = Log {
+            name: "a",
+            every: 1,
+            fail: true,
+            calls: &calls,
+        };
+        let b = Log {
+            name: "b",
+            every: 1,
+            fail: false,
+            calls: &calls,
+        };
+        let mut sim = SimLoop::new(world());
+        let e = sim
+            .frame(Duration::from_millis(100), &mut (a, b))
+            .unwrap_err();
+        assert!(
+            matches!(e, LoopError::Observer(ObserverError(ref m)) if m == "a failed"),
+            "{e}"
+        );
+        assert_eq!(*calls.borrow(), ["a before 0", "b before 0", "a after 1"]);
     }
 }

@@ -47,7 +47,7 @@ use std::time::{Duration, Instant};
 
 use crate::clock::VirtualClock;
 use crate::integrate::Integrator;
-use crate::scene::Scene;
+use crate::scene::{IntegratorError, InvalidValue, Scene};
 use crate::sim_loop::{LoopError, SimLoop};
 use crate::stability;
 use crate::world::{Divergence, World};
@@ -186,11 +186,73 @@ pub struct Progress {
 
 /// Why a study could not run.
 #[derive(Clone, Debug, PartialEq)]
-pub struct StudyError(pub String);
+pub enum StudyError {
+    /// The integrator list is empty.
+    NoIntegrators,
+    /// The step list is empty.
+    NoSteps,
+    /// A step (or a reference's substep count) the scene refuses; names the field.
+    Value(InvalidValue),
+    /// An integrator of the list the scene's forces refuse.
+    Integrator(IntegratorError),
+    /// The final time is not finite or not after the scene's start.
+    Until {
+        /// The scene's start time (s).
+        start: f64,
+        /// The final time asked for (s).
+        until: f64,
+    },
+    /// The tolerance is not a finite number > 0.
+    Tolerance(f64),
+    /// No energy window or no sample asked for.
+    NoSamples,
+    /// The run of a reference failed.
+    Reference {
+        /// The reference's integrator.
+        integrator: Integrator,
+        /// Its substeps per tick.
+        substeps: u32,
+        /// The step it serves (s).
+        dt: f64,
+        /// Why it stopped.
+        error: Box<LoopError>,
+    },
+    /// A timed repeat of a run failed where the measured run did not.
+    TimedRun(Box<LoopError>),
+    /// A measured run stopped for another reason than divergence (a divergence is an outcome).
+    Run(Box<LoopError>),
+}
 
 impl std::fmt::Display for StudyError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
+        match self {
+            StudyError::NoIntegrators => f.write_str("integrators: expected at least one"),
+            StudyError::NoSteps => f.write_str("dt: expected at least one step"),
+            StudyError::Value(e) => write!(f, "{e}"),
+            StudyError::Integrator(e) => write!(f, "integrators: {e}"),
+            StudyError::Until { start, until } => write!(
+                f,
+                "until: expected a finite time after the scene's start {start} s, got {until}"
+            ),
+            StudyError::Tolerance(t) => {
+                write!(f, "tolerance: expected a finite number > 0 (m), got {t}")
+            }
+            StudyError::NoSamples => f.write_str("energy windows and samples: expected at least 1"),
+            StudyError::Reference {
+                integrator,
+                substeps,
+                dt,
+                error,
+            } => write!(
+                f,
+                "the {integrator} reference ({substeps} substeps per tick at dt = {dt} s) failed: \
+                 {error}; study smaller steps"
+            ),
+            StudyError::TimedRun(e) => {
+                write!(f, "a timed run failed where the measured one did not: {e}")
+            }
+            StudyError::Run(e) => write!(f, "{e}"),
+        }
     }
 }
 
@@ -199,35 +261,31 @@ impl std::error::Error for StudyError {}
 /// Validates `config` against `scene`: non-empty lists, valid steps, integrators the scene
 /// allows, a final time after the start.
 pub fn validate(scene: &Scene, config: &StudyConfig) -> Result<(), StudyError> {
-    let bad = |m: String| Err(StudyError(m));
     if config.integrators.is_empty() {
-        return bad("integrators: expected at least one".into());
+        return Err(StudyError::NoIntegrators);
     }
     if config.dts.is_empty() {
-        return bad("dt: expected at least one step".into());
+        return Err(StudyError::NoSteps);
     }
     for &dt in &config.dts {
-        scene.clone().set_dt(dt).map_err(StudyError)?;
+        scene.clone().set_dt(dt).map_err(StudyError::Value)?;
     }
     for &i in &config.integrators {
-        crate::scene::check_integrator(i, &scene.forces)
-            .map_err(|m| StudyError(format!("integrators: {m}")))?;
+        crate::scene::check_integrator(i, &scene.forces).map_err(StudyError::Integrator)?;
     }
     if !(config.until.is_finite() && config.until > scene.start_time) {
-        return bad(format!(
-            "until: expected a finite time after the scene's start {} s, got {}",
-            scene.start_time, config.until
-        ));
+        return Err(StudyError::Until {
+            start: scene.start_time,
+            until: config.until,
+        });
     }
     if let Some(t) = config.tolerance
         && !(t.is_finite() && t > 0.0)
     {
-        return bad(format!(
-            "tolerance: expected a finite number > 0 (m), got {t}"
-        ));
+        return Err(StudyError::Tolerance(t));
     }
     if config.energy_windows == 0 || config.max_samples == 0 {
-        return bad("energy windows and samples: expected at least 1".into());
+        return Err(StudyError::NoSamples);
     }
     Ok(())
 }
@@ -253,7 +311,7 @@ pub fn run(
     let (mut points, mut references) = (Vec::new(), Vec::new());
     for &dt in &config.dts {
         let mut at_dt = scene.clone();
-        at_dt.set_dt(dt).map_err(StudyError)?;
+        at_dt.set_dt(dt).map_err(StudyError::Value)?;
         let ticks = at_dt.ticks_until(config.until).max(1);
         let stride = ticks.div_ceil(config.max_samples).max(1);
         tell(
@@ -268,7 +326,9 @@ pub fn run(
                 &mut done,
             );
             let mut run_scene = at_dt.clone();
-            run_scene.set_integrator(integrator).map_err(StudyError)?;
+            run_scene
+                .set_integrator(integrator)
+                .map_err(StudyError::Integrator)?;
             let precheck = precheck_of(&check, integrator);
             let mut point = measure::run_point(&run_scene, ticks, stride, &reference, config)?;
             point.precheck = precheck;
@@ -373,11 +433,7 @@ fn time_runs(
         let t0 = Instant::now();
         let result = sim.run_until(ticks, &mut clock, &mut ());
         let elapsed = t0.elapsed();
-        result.map_err(|e| {
-            StudyError(format!(
-                "a timed run failed where the measured one did not: {e}"
-            ))
-        })?;
+        result.map_err(|e| StudyError::TimedRun(Box::new(e)))?;
         Ok(elapsed)
     };
     let first = once()?.max(Duration::from_nanos(1));
@@ -402,6 +458,113 @@ fn time_runs(
 pub(crate) fn loop_error(e: LoopError) -> Result<Divergence, StudyError> {
     match e {
         LoopError::Diverged(d) => Ok(d),
-        other => Err(StudyError(other.to_string())),
+        other => Err(StudyError::Run(Box::new(other))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every variant prints the message it printed when study errors were strings.
+    #[test]
+    fn error_messages_are_pinned() {
+        let text = "Scene(dt: 0.01, integrator: Rk4, forces: [Gravity((0, 0, -9.81)), \
+                    QuadraticDrag(0.1)], bodies: [(mass: 1, position: (0, 0, 1))])";
+        let scene = crate::scene::parse(text, "inline.ron", "inline").unwrap();
+        let good = StudyConfig {
+            timing: false,
+            until: 1.0,
+            ..StudyConfig::for_scene(&scene)
+        };
+        assert_eq!(validate(&scene, &good), Ok(()));
+        let with = |change: fn(&mut StudyConfig)| {
+            let mut c = good.clone();
+            change(&mut c);
+            validate(&scene, &c).unwrap_err()
+        };
+        let no_closed_form = "`exact` needs a closed form, and force term QuadraticDrag has none (exact covers \
+             Gravity, ConstantForce and LinearDrag); choose another integrator";
+        let cases = [
+            (
+                with(|c| c.integrators.clear()),
+                StudyError::NoIntegrators,
+                "integrators: expected at least one".to_string(),
+            ),
+            (
+                with(|c| c.dts.clear()),
+                StudyError::NoSteps,
+                "dt: expected at least one step".into(),
+            ),
+            (
+                with(|c| c.dts.push(-2.0)),
+                StudyError::Value(InvalidValue {
+                    field: "dt".into(),
+                    problem: crate::scene::ValueProblem::NotPositive(-2.0),
+                }),
+                "dt: expected a finite number > 0, got -2".into(),
+            ),
+            (
+                with(|c| c.integrators.push(Integrator::Exact)),
+                StudyError::Integrator(IntegratorError::NoClosedForm(
+                    crate::forces::ForceKind::QuadraticDrag,
+                )),
+                format!("integrators: {no_closed_form}"),
+            ),
+            (
+                with(|c| c.until = -1.0),
+                StudyError::Until {
+                    start: 0.0,
+                    until: -1.0,
+                },
+                "until: expected a finite time after the scene's start 0 s, got -1".into(),
+            ),
+            (
+                with(|c| c.tolerance = Some(0.0)),
+                StudyError::Tolerance(0.0),
+                "tolerance: expected a finite number > 0 (m), got 0".into(),
+            ),
+            (
+                with(|c| c.max_samples = 0),
+                StudyError::NoSamples,
+                "energy windows and samples: expected at least 1".into(),
+            ),
+        ];
+        for (error, expected, message) in cases {
+            assert_eq!(error, expected);
+            assert_eq!(error.to_string(), message);
+        }
+        // A reference that would need more substeps than a scene may have.
+        let wide = StudyConfig {
+            integrators: vec![Integrator::Rk4],
+            dts: vec![1.0, 1e-3],
+            ..good.clone()
+        };
+        let error = run(&scene, &wide, &mut |_| {}).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "substeps: expected 1 to 10000, got 16000"
+        );
+        let loop_error = LoopError::Observer(crate::sim_loop::ObserverError("disk full".into()));
+        let cases = [
+            (
+                StudyError::Reference {
+                    integrator: Integrator::Rk4,
+                    substeps: 16,
+                    dt: 0.5,
+                    error: Box::new(loop_error.clone()),
+                },
+                "the rk4 reference (16 substeps per tick at dt = 0.5 s) failed: disk full; study \
+                 smaller steps",
+            ),
+            (
+                StudyError::TimedRun(Box::new(loop_error.clone())),
+                "a timed run failed where the measured one did not: disk full",
+            ),
+            (StudyError::Run(Box::new(loop_error)), "disk full"),
+        ];
+        for (error, message) in cases {
+            assert_eq!(error.to_string(), message);
+        }
     }
 }

@@ -414,47 +414,44 @@ impl World {
     /// ids not increasing or not below `next_id`, a mass not > 0, a radius not >= 0, a force
     /// term the scene does not declare, an integrator the forces refuse, a carried force
     /// without velocity Verlet). The divergence flag and the last tick's events are cleared.
-    pub fn restore(&mut self, s: &Snapshot) -> Result<(), String> {
+    pub fn restore(&mut self, s: &Snapshot) -> Result<(), RestoreError> {
         use crate::forces::ForceModel;
         let n = s.ids.len();
         let lengths = [s.p.len(), s.mv.len(), s.mass.len(), s.radius.len()];
         if lengths.iter().chain([&s.energy_cap.len()]).any(|&l| l != n) {
-            return Err(format!("body arrays of different lengths ({n} ids)"));
+            return Err(RestoreError::Lengths { ids: n });
         }
         if !s.ids.windows(2).all(|w| w[0] < w[1])
             || s.ids.last().is_some_and(|id| id.0 >= s.next_id)
         {
-            return Err("body ids must increase and stay below next_id".into());
+            return Err(RestoreError::Ids);
         }
         if let Some(i) = (0..n).find(|&i| !(s.mass[i].is_finite() && s.mass[i] > 0.0)) {
-            return Err(format!(
-                "body {}: mass must be > 0, got {}",
-                s.ids[i], s.mass[i]
-            ));
+            return Err(RestoreError::Mass {
+                body: s.ids[i],
+                mass: s.mass[i],
+            });
         }
         if let Some(i) = (0..n).find(|&i| !(s.radius[i].is_finite() && s.radius[i] >= 0.0)) {
-            return Err(format!(
-                "body {}: radius must be >= 0, got {}",
-                s.ids[i], s.radius[i]
-            ));
+            return Err(RestoreError::Radius {
+                body: s.ids[i],
+                radius: s.radius[i],
+            });
         }
         if s.forces != self.scene.forces.filtered(|k| s.forces.has(k)) {
-            return Err("active forces are not a subset of the scene's declared terms".into());
+            return Err(RestoreError::Forces);
         }
-        crate::scene::check_integrator(s.integrator, &s.forces)?;
+        crate::scene::check_integrator(s.integrator, &s.forces)
+            .map_err(RestoreError::Integrator)?;
         let l = &s.launcher;
         let numbers = [l.speed, l.elevation_deg, l.azimuth_deg, l.mass, l.radius];
         let finite = numbers.iter().all(|x| x.is_finite()) && l.position.is_finite();
         if !(finite && l.speed >= 0.0 && l.mass > 0.0 && l.radius >= 0.0) {
-            return Err("launcher: values must be finite, speed and radius >= 0, mass > 0".into());
+            return Err(RestoreError::Launcher);
         }
         let verlet = s.integrator == Integrator::VelocityVerlet;
         if !s.carry.is_empty() && (s.carry.len() != n || !verlet || s.forces.velocity_dependent()) {
-            return Err(
-                "a carried force needs velocity Verlet, forces of position only and one \
-                        entry per body"
-                    .into(),
-            );
+            return Err(RestoreError::Carry);
         }
         let b = &mut self.bodies;
         b.id.clone_from(&s.ids);
@@ -475,3 +472,69 @@ impl World {
         Ok(())
     }
 }
+
+/// Why [`World::restore`] refused a snapshot: the check it failed, with the values it names.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RestoreError {
+    /// The body arrays are not all as long as the ids.
+    Lengths {
+        /// How many ids the snapshot has.
+        ids: usize,
+    },
+    /// The ids do not increase, or one is not below `next_id`.
+    Ids,
+    /// A body's mass is not a finite number > 0.
+    Mass {
+        /// The body.
+        body: BodyId,
+        /// Its mass (kg).
+        mass: f64,
+    },
+    /// A body's radius is not a finite number >= 0.
+    Radius {
+        /// The body.
+        body: BodyId,
+        /// Its radius (m).
+        radius: f64,
+    },
+    /// A force term is active that the scene does not declare (or with other values).
+    Forces,
+    /// The integrator is one the active forces refuse.
+    Integrator(crate::scene::IntegratorError),
+    /// The launcher has a value that is not finite, a negative speed or radius, or a mass not
+    /// > 0.
+    Launcher,
+    /// A carried force without velocity Verlet, with velocity-dependent forces, or not one
+    /// entry per body.
+    Carry,
+}
+
+impl std::fmt::Display for RestoreError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RestoreError::Lengths { ids } => {
+                write!(f, "body arrays of different lengths ({ids} ids)")
+            }
+            RestoreError::Ids => f.write_str("body ids must increase and stay below next_id"),
+            RestoreError::Mass { body, mass } => {
+                write!(f, "body {body}: mass must be > 0, got {mass}")
+            }
+            RestoreError::Radius { body, radius } => {
+                write!(f, "body {body}: radius must be >= 0, got {radius}")
+            }
+            RestoreError::Forces => {
+                f.write_str("active forces are not a subset of the scene's declared terms")
+            }
+            RestoreError::Integrator(e) => write!(f, "{e}"),
+            RestoreError::Launcher => {
+                f.write_str("launcher: values must be finite, speed and radius >= 0, mass > 0")
+            }
+            RestoreError::Carry => f.write_str(
+                "a carried force needs velocity Verlet, forces of position only and one entry \
+                 per body",
+            ),
+        }
+    }
+}
+
+impl std::error::Error for RestoreError {}

@@ -37,6 +37,7 @@ use std::io::{self, Write};
 
 use serde::{Deserialize, Serialize};
 
+use crate::forces::ForceKind;
 use crate::integrate::Integrator;
 use crate::world::{BodyId, Divergence, DivergenceCause};
 
@@ -345,8 +346,72 @@ pub fn encode_footer(f: &Footer) -> [u8; FOOTER_LEN] {
     w.bytes().try_into().expect("the footer has a fixed length")
 }
 
+/// Why a record's payload does not decode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DecodeError {
+    /// The payload ends before a field it should hold.
+    Truncated {
+        /// The payload's length (bytes).
+        len: usize,
+    },
+    /// Bytes are left after the last field.
+    TrailingBytes(usize),
+    /// An array's declared length overflows.
+    ArrayTooLong,
+    /// The footer's divergence cause is no known tag.
+    DivergenceCause(u8),
+    /// The footer's divergence flag is neither 0 nor 1.
+    DivergenceFlag(u8),
+    /// A keyframe's integrator tag is no known integrator.
+    IntegratorTag(u8),
+    /// A keyframe's force mask has bits beyond the known terms, or its carry flag is not 0 or
+    /// 1.
+    MaskOrCarry {
+        /// The force mask.
+        mask: u8,
+        /// The carry flag.
+        carry: u8,
+    },
+    /// A keyframe marks a force term active that the scene does not declare.
+    UndeclaredForce(ForceKind),
+    /// A keyframe's body count does not match its length.
+    BodyCount {
+        /// The body count it declares.
+        bodies: u64,
+        /// The payload's length (bytes).
+        len: usize,
+    },
+    /// A keyframe's body ids do not increase.
+    IdsNotIncreasing,
+}
+
+impl std::fmt::Display for DecodeError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            DecodeError::Truncated { len } => write!(f, "payload ends at byte {len}"),
+            DecodeError::TrailingBytes(n) => write!(f, "{n} unread bytes at the end"),
+            DecodeError::ArrayTooLong => f.write_str("array too long"),
+            DecodeError::DivergenceCause(c) => write!(f, "unknown divergence cause {c}"),
+            DecodeError::DivergenceFlag(x) => write!(f, "divergence flag {x}, expected 0 or 1"),
+            DecodeError::IntegratorTag(t) => write!(f, "unknown integrator tag {t}"),
+            DecodeError::MaskOrCarry { mask, carry } => {
+                write!(f, "force mask {mask:#x} or carry flag {carry} out of range")
+            }
+            DecodeError::UndeclaredForce(kind) => {
+                write!(f, "force term {} is active but not declared", kind.name())
+            }
+            DecodeError::BodyCount { bodies, len } => {
+                write!(f, "{bodies} bodies do not fit a {len} byte keyframe")
+            }
+            DecodeError::IdsNotIncreasing => f.write_str("body ids are not increasing"),
+        }
+    }
+}
+
+impl std::error::Error for DecodeError {}
+
 /// Reads a footer's payload.
-pub fn decode_footer(payload: &[u8]) -> Result<Footer, String> {
+pub fn decode_footer(payload: &[u8]) -> Result<Footer, DecodeError> {
     let mut r = Reader::new(payload);
     let (final_tick, final_hash, flag) = (r.u64()?, r.u64()?, r.u8()?);
     let (tick, body, cause, energy, bound) = (r.u64()?, r.u64()?, r.u8()?, r.f64()?, r.f64()?);
@@ -354,7 +419,7 @@ pub fn decode_footer(payload: &[u8]) -> Result<Footer, String> {
     let cause = match cause {
         0 => DivergenceCause::NonFinite,
         1 => DivergenceCause::EnergyGrowth { energy, bound },
-        c => return Err(format!("unknown divergence cause {c}")),
+        c => return Err(DecodeError::DivergenceCause(c)),
     };
     let diverged = match flag {
         0 => None,
@@ -363,7 +428,7 @@ pub fn decode_footer(payload: &[u8]) -> Result<Footer, String> {
             body: BodyId(body),
             cause,
         }),
-        f => return Err(format!("divergence flag {f}, expected 0 or 1")),
+        f => return Err(DecodeError::DivergenceFlag(f)),
     };
     Ok(Footer {
         final_tick,
@@ -417,31 +482,36 @@ impl<'a> Reader<'a> {
         Reader { buf, at: 0 }
     }
 
-    fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+    fn take(&mut self, n: usize) -> Result<&'a [u8], DecodeError> {
         let end = self.at.checked_add(n).filter(|&e| e <= self.buf.len());
-        let end = end.ok_or_else(|| format!("payload ends at byte {}", self.buf.len()))?;
+        let end = end.ok_or(DecodeError::Truncated {
+            len: self.buf.len(),
+        })?;
         let out = &self.buf[self.at..end];
         self.at = end;
         Ok(out)
     }
 
-    pub(crate) fn u8(&mut self) -> Result<u8, String> {
+    pub(crate) fn u8(&mut self) -> Result<u8, DecodeError> {
         Ok(self.take(1)?[0])
     }
 
-    pub(crate) fn u64(&mut self) -> Result<u64, String> {
+    pub(crate) fn u64(&mut self) -> Result<u64, DecodeError> {
         let b = self.take(8)?;
         Ok(u64::from_le_bytes(
             b.try_into().expect("take(8) gives 8 bytes"),
         ))
     }
 
-    pub(crate) fn f64(&mut self) -> Result<f64, String> {
+    pub(crate) fn f64(&mut self) -> Result<f64, DecodeError> {
         self.u64().map(f64::from_bits)
     }
 
-    pub(crate) fn take_u64s(&mut self, n: usize) -> Result<impl Iterator<Item = u64> + 'a, String> {
-        let bytes = self.take(n.checked_mul(8).ok_or("array too long")?)?;
+    pub(crate) fn take_u64s(
+        &mut self,
+        n: usize,
+    ) -> Result<impl Iterator<Item = u64> + 'a, DecodeError> {
+        let bytes = self.take(n.checked_mul(8).ok_or(DecodeError::ArrayTooLong)?)?;
         Ok(bytes
             .chunks_exact(8)
             .map(|c| u64::from_le_bytes(c.try_into().expect("chunks of 8"))))
@@ -454,14 +524,83 @@ impl<'a> Reader<'a> {
         out
     }
 
-    pub(crate) fn end(&self) -> Result<(), String> {
+    pub(crate) fn end(&self) -> Result<(), DecodeError> {
         if self.at == self.buf.len() {
             Ok(())
         } else {
-            Err(format!(
-                "{} unread bytes at the end",
-                self.buf.len() - self.at
-            ))
+            Err(DecodeError::TrailingBytes(self.buf.len() - self.at))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn footers_that_do_not_decode_say_why() {
+        let good = encode_footer(&Footer {
+            final_tick: 3,
+            final_hash: 4,
+            diverged: None,
+        });
+        assert_eq!(decode_footer(&good).map(|f| f.final_tick), Ok(3));
+        assert_eq!(
+            decode_footer(&good[..20]),
+            Err(DecodeError::Truncated { len: 20 })
+        );
+        let mut long = good.to_vec();
+        long.extend_from_slice(&[0, 0]);
+        assert_eq!(decode_footer(&long), Err(DecodeError::TrailingBytes(2)));
+        let mut bad = good;
+        bad[16] = 2;
+        assert_eq!(decode_footer(&bad), Err(DecodeError::DivergenceFlag(2)));
+        bad[16] = 1;
+        bad[33] = 9;
+        assert_eq!(decode_footer(&bad), Err(DecodeError::DivergenceCause(9)));
+    }
+
+    /// Every variant prints the message it printed when these errors were strings.
+    #[test]
+    fn error_messages_are_pinned() {
+        let cases: [(DecodeError, &str); 10] = [
+            (
+                DecodeError::Truncated { len: 20 },
+                "payload ends at byte 20",
+            ),
+            (DecodeError::TrailingBytes(2), "2 unread bytes at the end"),
+            (DecodeError::ArrayTooLong, "array too long"),
+            (
+                DecodeError::DivergenceCause(9),
+                "unknown divergence cause 9",
+            ),
+            (
+                DecodeError::DivergenceFlag(2),
+                "divergence flag 2, expected 0 or 1",
+            ),
+            (DecodeError::IntegratorTag(7), "unknown integrator tag 7"),
+            (
+                DecodeError::MaskOrCarry {
+                    mask: 0x40,
+                    carry: 0,
+                },
+                "force mask 0x40 or carry flag 0 out of range",
+            ),
+            (
+                DecodeError::UndeclaredForce(ForceKind::Spring),
+                "force term Spring is active but not declared",
+            ),
+            (
+                DecodeError::BodyCount {
+                    bodies: 3,
+                    len: 115,
+                },
+                "3 bodies do not fit a 115 byte keyframe",
+            ),
+            (DecodeError::IdsNotIncreasing, "body ids are not increasing"),
+        ];
+        for (error, message) in cases {
+            assert_eq!(error.to_string(), message, "{error:?}");
         }
     }
 }

@@ -9,7 +9,9 @@ use crate::integrate::Integrator;
 use crate::scene::Launcher;
 use crate::world::{BodyId, Snapshot, SplitMix64, Vec3s};
 
-use super::format::{CRC_LEN, HEAD_LEN, Kind, Reader, Words, frame_head};
+use super::format::{
+    CRC_LEN, DecodeError, FORMAT_VERSION, HEAD_LEN, Kind, Reader, Words, frame_head,
+};
 
 /// Bytes of a keyframe before its body arrays.
 pub const KEYFRAME_FIXED: usize = 3 * 8 + 3 + 8 * 8 + 8 + 8;
@@ -36,7 +38,7 @@ pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
     let n = s.ids.len();
     let len = keyframe_len(n, carry).ok_or_else(|| {
         io::Error::other(format!(
-            "a keyframe of {n} bodies is too large for format v1"
+            "a keyframe of {n} bodies is too large for format v{FORMAT_VERSION}"
         ))
     })?;
     let mut w = CrcWrite::new(out);
@@ -91,27 +93,26 @@ pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
 /// Reads a keyframe's payload into `s` (reusing its buffers); `declared` are the scene's force
 /// terms, whose values the active ones take. Checks the structure (sizes, tags, increasing ids,
 /// active terms declared); [`crate::World::restore`] checks the rest against the scene.
-pub fn decode_keyframe(payload: &[u8], declared: &Forces, s: &mut Snapshot) -> Result<(), String> {
+pub fn decode_keyframe(
+    payload: &[u8],
+    declared: &Forces,
+    s: &mut Snapshot,
+) -> Result<(), DecodeError> {
     let mut r = Reader::new(payload);
     (s.tick, s.next_id, s.rng) = (r.u64()?, r.u64()?, SplitMix64(r.u64()?));
     let (integrator, mask, carry) = (r.u8()?, r.u8()?, r.u8()?);
     s.integrator = *Integrator::ALL
         .get(usize::from(integrator))
-        .ok_or_else(|| format!("unknown integrator tag {integrator}"))?;
+        .ok_or(DecodeError::IntegratorTag(integrator))?;
     if mask >> ForceKind::ALL.len() != 0 || carry > 1 {
-        return Err(format!(
-            "force mask {mask:#x} or carry flag {carry} out of range"
-        ));
+        return Err(DecodeError::MaskOrCarry { mask, carry });
     }
     let active = |k: ForceKind| mask & (1 << (k as u8)) != 0;
     if let Some(k) = ForceKind::ALL
         .into_iter()
         .find(|&k| active(k) && !declared.has(k))
     {
-        return Err(format!(
-            "force term {} is active but not declared",
-            k.name()
-        ));
+        return Err(DecodeError::UndeclaredForce(k));
     }
     s.forces = declared.filtered(active);
     let mut f = [0.0; 8];
@@ -132,13 +133,16 @@ pub fn decode_keyframe(payload: &[u8], declared: &Forces, s: &mut Snapshot) -> R
         .ok()
         .and_then(|n| keyframe_len(n, carry == 1))
         .filter(|&l| l as usize == payload.len())
-        .ok_or_else(|| format!("{n} bodies do not fit a {} byte keyframe", payload.len()))?;
+        .ok_or(DecodeError::BodyCount {
+            bodies: n,
+            len: payload.len(),
+        })?;
     debug_assert_eq!(expected as usize, payload.len());
     let n = n as usize;
     s.ids.clear();
     s.ids.extend(r.take_u64s(n)?.map(BodyId));
     if !s.ids.windows(2).all(|w| w[0] < w[1]) {
-        return Err("body ids are not increasing".into());
+        return Err(DecodeError::IdsNotIncreasing);
     }
     for v in [&mut s.p, &mut s.mv] {
         read_vec3s(&mut r, n, v)?;
@@ -155,7 +159,7 @@ pub fn decode_keyframe(payload: &[u8], declared: &Forces, s: &mut Snapshot) -> R
     r.end()
 }
 
-fn read_vec3s(r: &mut Reader, n: usize, v: &mut Vec3s) -> Result<(), String> {
+fn read_vec3s(r: &mut Reader, n: usize, v: &mut Vec3s) -> Result<(), DecodeError> {
     for c in [&mut v.x, &mut v.y, &mut v.z] {
         c.clear();
         c.extend(r.take_u64s(n)?.map(f64::from_bits));
@@ -203,5 +207,47 @@ impl<'a, W: Write> CrcWrite<'a, W> {
     fn finish(self) -> io::Result<()> {
         let crc = self.crc.finalize();
         self.out.write_all(&crc.to_le_bytes())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keyframes_that_do_not_decode_say_why() {
+        let text = "Scene(dt: 0.01, integrator: Rk4, forces: [Gravity((0, 0, -9.81))],
+            bodies: [(mass: 1, position: (0, 0, 1)), (mass: 2, position: (1, 0, 1))])";
+        let scene = crate::scene::parse(text, "inline.ron", "inline").unwrap();
+        let world = crate::World::new(&scene);
+        let mut frame = Vec::new();
+        encode_keyframe(&mut frame, &world.snapshot()).unwrap();
+        let payload = &frame[HEAD_LEN..frame.len() - CRC_LEN];
+        let mut s = world.snapshot();
+        decode_keyframe(payload, &scene.forces, &mut s).unwrap();
+        assert_eq!(s, world.snapshot());
+
+        let decode = |bytes: &[u8], declared: &Forces| {
+            decode_keyframe(bytes, declared, &mut world.snapshot()).unwrap_err()
+        };
+        let mut bad = payload.to_vec();
+        bad[24] = 99;
+        assert_eq!(decode(&bad, &scene.forces), DecodeError::IntegratorTag(99));
+        assert_eq!(
+            decode(payload, &Forces::default()),
+            DecodeError::UndeclaredForce(ForceKind::Gravity)
+        );
+        assert_eq!(
+            decode(&payload[..10], &scene.forces),
+            DecodeError::Truncated { len: 10 }
+        );
+        let long = [payload, &[0; 8]].concat();
+        assert_eq!(
+            decode(&long, &scene.forces),
+            DecodeError::BodyCount {
+                bodies: 2,
+                len: payload.len() + 8
+            }
+        );
     }
 }

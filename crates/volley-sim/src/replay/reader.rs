@@ -237,7 +237,9 @@ impl<R: Read + Seek> Recording<R> {
         scene.timestep = Duration::from_nanos(h.timestep_ns);
         scene
             .set_substeps(h.substeps)
-            .and_then(|()| scene.set_integrator(h.integrator))
+            .map_err(|e| fail(format!("header: {e}")))?;
+        scene
+            .set_integrator(h.integrator)
             .map_err(|e| fail(format!("header: {e}")))?;
         Ok(scene)
     }
@@ -308,11 +310,11 @@ impl Index {
                 return Ok(());
             }
             Kind::Footer => {
-                let f = format::decode_footer(payload)?;
+                let f = format::decode_footer(payload).map_err(|e| e.to_string())?;
                 self.footer = Some(f);
                 f.final_tick
             }
-            _ => r.u64()?,
+            _ => r.u64().map_err(|e| e.to_string())?,
         };
         if self.last_tick.is_some_and(|last| tick < last) {
             return Err(format!(
@@ -373,7 +375,7 @@ impl Index {
     /// Takes the hashes of a hash record whose first tick is `first` (read already); returns
     /// the tick of its last hash.
     fn take_hashes(&mut self, first: u64, r: &mut format::Reader) -> Result<u64, String> {
-        let stride = r.u64()?;
+        let stride = r.u64().map_err(|e| e.to_string())?;
         if stride == 0 {
             return Err("stride 0 between hashed ticks".into());
         }

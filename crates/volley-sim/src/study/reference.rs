@@ -210,8 +210,9 @@ fn record(
     stride: u64,
 ) -> Result<(Vec<Frame>, Vec<Event>), StudyError> {
     let mut s = scene.clone();
-    s.set_integrator(integrator).map_err(StudyError)?;
-    s.set_substeps(substeps).map_err(StudyError)?;
+    s.set_integrator(integrator)
+        .map_err(StudyError::Integrator)?;
+    s.set_substeps(substeps).map_err(StudyError::Value)?;
     let mut sim = SimLoop::new(World::new(&s));
     let mut recorder = Recorder {
         ticks,
@@ -220,12 +221,11 @@ fn record(
         events: Vec::new(),
     };
     sim.run_until(ticks, &mut VirtualClock::Steady(s.timestep), &mut recorder)
-        .map_err(|e| {
-            StudyError(format!(
-                "the {integrator} reference ({substeps} substeps per tick at dt = {} s) failed: \
-                 {e}; study smaller steps",
-                s.dt()
-            ))
+        .map_err(|e| StudyError::Reference {
+            integrator,
+            substeps,
+            dt: s.dt(),
+            error: Box::new(e),
         })?;
     Ok((recorder.frames, recorder.events))
 }

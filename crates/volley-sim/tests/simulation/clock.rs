@@ -114,7 +114,12 @@ fn time_scale_stretches_frame_time_and_rejects_nonsense() {
     assert_eq!(c.advance(10 * MS).steps, 2);
     assert_eq!(state(&c), (3, 5 * MS, Duration::ZERO, 0.5));
     for bad in [-1.0, f64::NAN, f64::INFINITY, 1000.0] {
-        assert!(c.set_time_scale(bad).is_err(), "{bad}");
+        let err = c.set_time_scale(bad).unwrap_err();
+        assert!(
+            matches!(err, volley_sim::clock::ClockError::TimeScale(x) if x.to_bits() == bad.to_bits()),
+            "{bad}"
+        );
+        assert_eq!(err.to_string(), "time scale must be a number from 0 to 100");
     }
     assert_eq!(c.time_scale(), 2.0);
 }

@@ -71,7 +71,12 @@ fn no_module_imports_a_higher_layer() {
     let mut wrong = Vec::new();
     for path in &all {
         let rel = path.strip_prefix(&src).unwrap();
-        let top = rel.components().next().unwrap().as_os_str().to_string_lossy();
+        let top = rel
+            .components()
+            .next()
+            .unwrap()
+            .as_os_str()
+            .to_string_lossy();
         let module = top.trim_end_matches(".rs");
         if module == "lib" {
             continue;
@@ -85,7 +90,10 @@ fn no_module_imports_a_higher_layer() {
             }
         }
     }
-    assert!(checked > 50, "only {checked} imports found: is the scan broken?");
+    assert!(
+        checked > 50,
+        "only {checked} imports found: is the scan broken?"
+    );
     assert!(wrong.is_empty(), "imports from a higher layer: {wrong:#?}");
 }
 

@@ -2,8 +2,9 @@
 //! boundaries.
 
 use glam::DVec3;
-use volley_sim::command::{Command, parse_script};
-use volley_sim::scene::BodySpec;
+use volley_sim::command::{Command, CommandError, parse_script};
+use volley_sim::scene::{BodySpec, IntegratorError};
+use volley_sim::world::RestoreError;
 use volley_sim::{BodyId, ForceKind, Integrator, SimLoop, World, scene};
 
 fn empty_world() -> World {
@@ -65,14 +66,22 @@ fn commands_apply_at_their_tick_boundary() {
 fn commands_that_cannot_apply_are_refused_with_a_reason() {
     let mut w = empty_world();
     let err = w.apply(&Command::Despawn(BodyId(7))).unwrap_err();
-    assert!(err.0.contains("no body 7"), "{err}");
+    assert_eq!(err, CommandError::NoSuchBody(BodyId(7)));
     let err = w
         .apply(&Command::SetForce {
             kind: ForceKind::Spring,
             enabled: true,
         })
         .unwrap_err();
-    assert!(err.0.contains("does not declare Spring"), "{err}");
+    assert!(
+        matches!(&err, CommandError::UndeclaredForce { kind: ForceKind::Spring, declared }
+            if declared == &[ForceKind::Gravity, ForceKind::LinearDrag]),
+        "{err:?}"
+    );
+    assert_eq!(
+        err.to_string(),
+        "force: the scene does not declare Spring (declared: Gravity, LinearDrag)"
+    );
     // Exact is fine with drag and gravity, but not once the scene's quadratic drag is on; here
     // there is none, so it applies.
     w.apply(&Command::SetIntegrator(Integrator::Exact)).unwrap();
@@ -146,4 +155,77 @@ fn reset_clears_a_divergence_and_the_world_steps_again() {
     assert_eq!(w.bodies().momenta().get(0), fresh.bodies().momenta().get(0));
     assert_eq!(w.step(), Ok(()));
     assert_eq!(w.tick(), tick + 1);
+}
+
+#[test]
+fn restore_names_the_check_a_snapshot_fails() {
+    let text = r#"Scene(dt: 0.01, integrator: Rk4,
+        forces: [Gravity((0.0, 0.0, -9.81)), QuadraticDrag(0.1)])"#;
+    let mut w = World::new(&scene::parse(text, "inline.ron", "inline").unwrap());
+    w.spawn(&ball(0.0));
+    w.spawn(&ball(1.0));
+    let good = w.snapshot();
+    type Spoil = fn(&mut volley_sim::replay::Snapshot);
+    let cases: [(Spoil, RestoreError, &str); 8] = [
+        (
+            |s| s.mass.push(1.0),
+            RestoreError::Lengths { ids: 2 },
+            "body arrays of different lengths (2 ids)",
+        ),
+        (
+            |s| s.ids.swap(0, 1),
+            RestoreError::Ids,
+            "body ids must increase and stay below next_id",
+        ),
+        (
+            |s| s.mass[1] = 0.0,
+            RestoreError::Mass {
+                body: BodyId(1),
+                mass: 0.0,
+            },
+            "body 1: mass must be > 0, got 0",
+        ),
+        (
+            |s| s.radius[0] = -1.0,
+            RestoreError::Radius {
+                body: BodyId(0),
+                radius: -1.0,
+            },
+            "body 0: radius must be >= 0, got -1",
+        ),
+        (
+            |s| s.forces.constant = Some(DVec3::X),
+            RestoreError::Forces,
+            "active forces are not a subset of the scene's declared terms",
+        ),
+        (
+            |s| s.integrator = Integrator::Exact,
+            RestoreError::Integrator(IntegratorError::NoClosedForm(ForceKind::QuadraticDrag)),
+            "`exact` needs a closed form, and force term QuadraticDrag has none (exact covers \
+             Gravity, ConstantForce and LinearDrag); choose another integrator",
+        ),
+        (
+            |s| s.launcher.speed = -1.0,
+            RestoreError::Launcher,
+            "launcher: values must be finite, speed and radius >= 0, mass > 0",
+        ),
+        (
+            |s| {
+                for c in [&mut s.carry.x, &mut s.carry.y, &mut s.carry.z] {
+                    c.resize(2, 0.0);
+                }
+            },
+            RestoreError::Carry,
+            "a carried force needs velocity Verlet, forces of position only and one entry per \
+             body",
+        ),
+    ];
+    for (spoil, expected, message) in cases {
+        let mut s = good.clone();
+        spoil(&mut s);
+        let err = w.restore(&s).unwrap_err();
+        assert_eq!(err, expected);
+        assert_eq!(err.to_string(), message);
+    }
+    w.restore(&good).unwrap();
 }

@@ -89,7 +89,10 @@ fn stiff_spring_has_no_closed_form_integrator() {
     let scene = load("hard/stiff_spring");
     assert!(!allowed(&scene).contains(&Exact));
     let err = volley_sim::scene::check_integrator(Exact, &scene.forces).unwrap_err();
-    assert!(err.contains("Spring"), "{err}");
+    assert_eq!(
+        err,
+        volley_sim::scene::IntegratorError::NoClosedForm(volley_sim::ForceKind::Spring)
+    );
 }
 
 #[test]
