@@ -9,5 +9,6 @@
 pub use volley_sim::*;
 
 pub mod app;
+pub mod palette;
 pub mod plot;
 pub mod render;

@@ -6,59 +6,14 @@ use clap::Args;
 
 use volley::clock::VirtualClock;
 use volley::hash::hex;
-use volley::scene::{self, Scene};
 use volley::table::{Format, Summary, TableWriter};
-use volley::{Integrator, LoopError, SimLoop, World};
+use volley::{SimLoop, World};
 
-use super::{
-    EXIT_DIVERGED, EXIT_ENVIRONMENT, EXIT_INPUT, EXIT_MISMATCH, Failure, fail, resolve_scene,
+use super::args::{
+    RunArgs, format_parser, load_commands, load_scene, loop_failure, print_stability_warnings,
+    run_length,
 };
-
-/// What `volley headless` and `volley record` both take: the scene, its overrides, how long to
-/// run, threads and a command script.
-#[derive(Args, Clone)]
-pub struct RunArgs {
-    /// Scene file, or the name of a bundled scene (see `volley scenes`).
-    pub scene: String,
-    /// Ticks to run (default: the scene's duration).
-    #[arg(long, conflicts_with = "until")]
-    pub ticks: Option<u64>,
-    /// Run until this sim time (s).
-    #[arg(long)]
-    pub until: Option<f64>,
-    /// Integrator: explicit-euler, semi-implicit-euler, verlet, midpoint, rk4, implicit-euler,
-    /// exact.
-    #[arg(long)]
-    pub integrator: Option<String>,
-    /// Timestep (s), rounded to whole nanoseconds.
-    #[arg(long)]
-    pub dt: Option<f64>,
-    /// Integrator steps per tick.
-    #[arg(long)]
-    pub substeps: Option<u32>,
-    /// Worker threads for stepping (results are identical for any count).
-    #[arg(long, default_value_t = 1)]
-    pub threads: usize,
-    /// Command script (`TICK: COMMAND` lines) applied during the run.
-    #[arg(long)]
-    pub commands: Option<PathBuf>,
-}
-
-impl RunArgs {
-    /// Defaults for `scene`, as if only the scene were given.
-    pub fn for_scene(scene: &str) -> RunArgs {
-        RunArgs {
-            scene: scene.to_string(),
-            ticks: None,
-            until: None,
-            integrator: None,
-            dt: None,
-            substeps: None,
-            threads: 1,
-            commands: None,
-        }
-    }
-}
+use super::{EXIT_ENVIRONMENT, EXIT_MISMATCH, Failure, fail};
 
 /// Arguments of `volley headless`.
 #[derive(Args, Clone)]
@@ -66,11 +21,11 @@ pub struct HeadlessArgs {
     /// The scene and the run.
     #[command(flatten)]
     pub run: RunArgs,
-    /// Print a row every K ticks.
-    #[arg(long, default_value_t = 1)]
+    /// Print a row every K ticks (at least 1).
+    #[arg(long, value_name = "K", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     pub every: u64,
     /// Output format.
-    #[arg(long, value_parser = super::format_parser(), default_value_t = Format::Table)]
+    #[arg(long, value_parser = format_parser(), default_value_t = Format::Table)]
     pub format: Format,
     /// Decimals in the aligned table.
     #[arg(long, default_value_t = 4)]
@@ -85,8 +40,8 @@ pub struct HeadlessArgs {
     /// Frame size for `--frames`, WIDTHxHEIGHT in pixels (default 1280x720).
     #[arg(long, value_name = "WxH", requires = "frames")]
     pub size: Option<String>,
-    /// Ticks between frames for `--frames`.
-    #[arg(long, value_name = "K", default_value_t = 1, requires = "frames")]
+    /// Ticks between frames for `--frames` (at least 1).
+    #[arg(long, value_name = "K", default_value_t = 1, requires = "frames", value_parser = clap::value_parser!(u64).range(1..))]
     pub frame_every: u64,
     /// The final state hash this run must end with (as the summary prints it): a different one
     /// exits 1 after the summary, for CI that pins a scene's result.
@@ -94,82 +49,12 @@ pub struct HeadlessArgs {
     pub expect_hash: Option<u64>,
 }
 
-/// Parses an integrator name for a flag, listing the valid names on error.
-pub fn parse_integrator(flag: &str, name: &str) -> Result<Integrator, Failure> {
-    Integrator::parse(name).ok_or_else(|| {
-        let names: Vec<_> = Integrator::ALL.iter().map(|i| i.name()).collect();
-        fail(
-            EXIT_INPUT,
-            format!(
-                "{flag}: unknown `{name}`, expected one of {}",
-                names.join(", ")
-            ),
-        )
-    })
-}
-
-/// Loads the scene and applies the run's overrides (dt, substeps, integrator).
-pub fn load_scene(args: &RunArgs) -> Result<Scene, Failure> {
-    let path = resolve_scene(&args.scene)?;
-    let mut scene = scene::load(&path).map_err(|e| fail(EXIT_INPUT, e))?;
-    if let Some(dt) = args.dt {
-        scene
-            .set_dt(dt)
-            .map_err(|e| fail(EXIT_INPUT, format!("--dt: {e}")))?;
-    }
-    if let Some(n) = args.substeps {
-        scene
-            .set_substeps(n)
-            .map_err(|e| fail(EXIT_INPUT, format!("--substeps: {e}")))?;
-    }
-    if let Some(name) = &args.integrator {
-        let integrator = parse_integrator("--integrator", name)?;
-        scene
-            .set_integrator(integrator)
-            .map_err(|e| fail(EXIT_INPUT, format!("--integrator: {e}")))?;
-    }
-    Ok(scene)
-}
-
-/// Ticks a run covers: `--ticks`, `--until`, or the scene's duration.
-pub fn run_length(args: &RunArgs, scene: &Scene) -> Result<u64, Failure> {
-    match (args.ticks, args.until) {
-        (Some(n), _) => Ok(n),
-        (None, Some(t)) if t.is_finite() => Ok(scene.ticks_until(t)),
-        (None, Some(t)) => Err(fail(
-            EXIT_INPUT,
-            format!("--until: expected a finite time, got {t}"),
-        )),
-        (None, None) => Ok(scene.ticks_until(scene.start_time + scene.duration)),
-    }
-}
-
-/// Reads a command script, if one was given.
-pub fn load_commands(path: Option<&PathBuf>) -> Result<Vec<volley::Stamped>, Failure> {
-    let Some(path) = path else {
-        return Ok(Vec::new());
-    };
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| fail(EXIT_INPUT, format!("{}: cannot read: {e}", path.display())))?;
-    volley::command::parse_script(&text, &path.display().to_string())
-        .map_err(|e| fail(EXIT_INPUT, e))
-}
-
-/// Maps a loop error to the CLI's exit codes.
-pub fn loop_failure(e: LoopError) -> Failure {
-    match e {
-        LoopError::Diverged(d) => fail(EXIT_DIVERGED, d),
-        LoopError::Command { .. } => fail(EXIT_INPUT, e),
-        LoopError::Observer(e) => fail(EXIT_ENVIRONMENT, e),
-    }
-}
-
 /// Runs the scene and prints rows, events and the summary; a divergence keeps what was printed.
 pub fn run(args: &HeadlessArgs) -> Result<(), Failure> {
-    let scene = load_scene(&args.run)?;
+    let (_, scene) = load_scene(&args.run.scene, &args.run.overrides)?;
     let ticks = run_length(&args.run, &scene)?;
     let commands = load_commands(args.run.commands.as_ref())?;
-    super::study::print_stability_warnings(&volley::stability::check(&scene));
+    print_stability_warnings(&volley::stability::check(&scene));
     let mut world = World::new(&scene);
     world.set_threads(args.run.threads);
     let mut sim = SimLoop::new(world);
@@ -192,11 +77,7 @@ pub fn run(args: &HeadlessArgs) -> Result<(), Failure> {
             let mut source = VirtualClock::Steady(scene.timestep);
             let size = args.size.as_deref();
             let mut frames = super::frames::writer(&sim.world, dir, size, args.frame_every)?;
-            let mut both = super::frames::WithFrames {
-                inner: &mut table,
-                frames: &mut frames,
-            };
-            sim.run_until(ticks, &mut source, &mut both)
+            sim.run_until(ticks, &mut source, &mut (&mut table, &mut frames))
         }
         None => {
             // Frames of many ticks: the ticks the table does not print may run as batches.

@@ -1,6 +1,8 @@
 //! Subcommand implementations of the `volley` binary, one file each, plus what they share.
 
 pub mod aim;
+pub mod args;
+pub mod display;
 pub mod frames;
 pub mod headless;
 pub mod record;
@@ -97,10 +99,15 @@ pub fn resolve_scene(arg: &str) -> Result<PathBuf, Failure> {
     ))
 }
 
-/// `--format`: the table formats by name, so `--help` lists them.
-pub fn format_parser() -> impl clap::builder::TypedValueParser<Value = volley::table::Format> {
-    use clap::builder::TypedValueParser;
-    use volley::table::Format;
-    clap::builder::PossibleValuesParser::new(Format::ALL.map(|(_, name)| name))
-        .map(|name| Format::from_name(&name).unwrap_or(Format::Table))
+/// Every `.ron` file under `dir`, recursively, into `out`.
+pub fn collect_ron(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
+    for entry in std::fs::read_dir(dir)? {
+        let path = entry?.path();
+        if path.is_dir() {
+            collect_ron(&path, out)?;
+        } else if path.extension().is_some_and(|e| e == "ron") {
+            out.push(path);
+        }
+    }
+    Ok(())
 }

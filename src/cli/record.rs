@@ -8,7 +8,7 @@ use volley::hash::hex;
 use volley::replay::{RecordOptions, Recorder};
 use volley::{LoopError, SimLoop, World};
 
-use super::headless::{RunArgs, load_commands, load_scene, loop_failure, run_length};
+use super::args::{RunArgs, load_commands, load_scene, loop_failure, run_length};
 use super::{EXIT_DIVERGED, EXIT_ENVIRONMENT, Failure, fail};
 
 /// Arguments of `volley record`.
@@ -30,7 +30,7 @@ pub struct RecordArgs {
 
 /// Records the run; a divergence is recorded too (the replay reproduces it) and exits 3.
 pub fn run(args: &RecordArgs) -> Result<(), Failure> {
-    let scene = load_scene(&args.run)?;
+    let (_, scene) = load_scene(&args.run.scene, &args.run.overrides)?;
     let ticks = run_length(&args.run, &scene)?;
     let commands = load_commands(args.run.commands.as_ref())?;
     let mut world = World::new(&scene);

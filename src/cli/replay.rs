@@ -17,7 +17,8 @@ use volley::hash::{hex, state_hash};
 use volley::replay::{ErrorKind, Recording, Replay, ReplayError};
 use volley::table::{Format, Summary, TableWriter};
 
-use super::window::DisplayArgs;
+use super::args::format_parser;
+use super::display::{DisplayArgs, report, window_failure};
 use super::{EXIT_ENVIRONMENT, EXIT_INPUT, EXIT_MISMATCH, Failure, fail};
 
 /// Arguments of `volley replay`.
@@ -34,11 +35,11 @@ pub struct ReplayArgs {
     /// Print the state table instead of opening the window.
     #[arg(long)]
     pub headless: bool,
-    /// Print a row every K ticks (default 1; implies the table).
-    #[arg(long)]
+    /// Print a row every K ticks (default 1, at least 1; implies the table).
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
     pub every: Option<u64>,
     /// Output format of the table (default table; implies the table).
-    #[arg(long, value_parser = super::format_parser())]
+    #[arg(long, value_parser = format_parser())]
     pub format: Option<Format>,
     /// Decimals in the aligned table (default 4; implies the table).
     #[arg(long)]
@@ -120,7 +121,7 @@ pub fn run(args: &ReplayArgs) -> Result<(), Failure> {
             for w in warnings {
                 eprintln!("warning: {}: {w}", args.file.display());
             }
-            super::window::report(&args.display, &summary);
+            report(&args.display, &summary);
             match summary.replay {
                 Some(verdict) => verdict_of_window(args, &verdict),
                 None => Ok(()),
@@ -130,7 +131,7 @@ pub fn run(args: &ReplayArgs) -> Result<(), Failure> {
             eprintln!("warning: no window ({e}); printing the replay's table instead");
             headless(args)
         }
-        Err(e) => Err(super::window::window_failure(e)),
+        Err(e) => Err(window_failure(e)),
     }
 }
 

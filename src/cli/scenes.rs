@@ -1,11 +1,10 @@
 //! `volley scenes`: the bundled scenes, one line each.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
 
 use volley::scene;
 
-use super::{EXIT_ENVIRONMENT, Failure, fail, scene_dirs};
+use super::{EXIT_ENVIRONMENT, Failure, collect_ron, fail, scene_dirs};
 
 /// Lists every `.ron` file under the bundled scene folder with its description.
 pub fn run() -> Result<(), Failure> {
@@ -30,19 +29,6 @@ pub fn run() -> Result<(), Failure> {
             Err(e) => format!("{name:<28} (does not load: {e})"),
         };
         writeln!(out, "{line}").map_err(|e| fail(EXIT_ENVIRONMENT, e))?;
-    }
-    Ok(())
-}
-
-/// Every `.ron` file under `dir`, recursively, into `out`.
-pub fn collect_ron(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
-    for entry in std::fs::read_dir(dir)? {
-        let path = entry?.path();
-        if path.is_dir() {
-            collect_ron(&path, out)?;
-        } else if path.extension().is_some_and(|e| e == "ron") {
-            out.push(path);
-        }
     }
     Ok(())
 }

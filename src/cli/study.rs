@@ -8,9 +8,9 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use volley::Integrator;
 use volley::scene;
-use volley::stability::StabilityReport;
 use volley::study::{self, StudyConfig};
 
+use super::args::parse_integrator;
 use super::{EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail, resolve_scene};
 
 /// Arguments of `volley study`.
@@ -48,13 +48,6 @@ pub struct StudyArgs {
     /// Skip the wall-time measurement (errors and evaluation counts only).
     #[arg(long)]
     pub no_timing: bool,
-}
-
-/// Prints the pre-check's warning lines to stderr (nothing when the chosen integrator is stable).
-pub fn print_stability_warnings(report: &StabilityReport) {
-    for line in report.warnings() {
-        eprintln!("warning: {line}");
-    }
 }
 
 /// Parses `A..B` with N points into log-spaced steps from A to B.
@@ -96,7 +89,7 @@ fn config(args: &StudyArgs, scene: &scene::Scene) -> Result<StudyConfig, Failure
         } else {
             names
                 .iter()
-                .map(|n| super::headless::parse_integrator("--integrators", n.trim()))
+                .map(|n| parse_integrator("--integrators", n.trim()))
                 .collect::<Result<_, _>>()?
         };
     } else {

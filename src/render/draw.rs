@@ -28,17 +28,10 @@ pub const LAUNCHER: Rgba = [210, 210, 220, 255];
 /// cheap, but a thousand dashed arcs only hide the bodies.
 pub const GHOST_BODIES: usize = 16;
 
-/// The colour an integrator is drawn in, everywhere (bodies, trails, legend).
+/// The colour an integrator is drawn in, everywhere (bodies, trails, legend, plots): the one
+/// palette of [`crate::palette`].
 pub fn integrator_colour(integrator: Integrator) -> Rgba {
-    match integrator {
-        Integrator::ExplicitEuler => [235, 85, 75, 255],
-        Integrator::SemiImplicitEuler => [245, 170, 50, 255],
-        Integrator::VelocityVerlet => [90, 200, 100, 255],
-        Integrator::Midpoint => [180, 120, 230, 255],
-        Integrator::Rk4 => [80, 160, 245, 255],
-        Integrator::ImplicitEuler => [60, 205, 200, 255],
-        Integrator::Exact => [240, 240, 240, 255],
-    }
+    crate::palette::integrator(integrator)
 }
 
 /// One sphere: centre relative to the render origin (m), radius (m), colour.

@@ -152,3 +152,62 @@ proptest! {
         let _ = scene::parse(&text, "fuzz.ron", "fuzz");
     }
 }
+
+/// One rule for counts of ticks: 0 is refused at parse time, naming the flag, exit 2.
+#[test]
+fn every_zero_is_refused_for_every_count_of_ticks() {
+    for args in [
+        vec!["headless", "seed", "--every", "0"],
+        vec![
+            "headless",
+            "seed",
+            "--frames",
+            "/nonexistent",
+            "--frame-every",
+            "0",
+        ],
+        vec![
+            "record",
+            "seed",
+            "-o",
+            "/nonexistent/x.vrec",
+            "--hash-every",
+            "0",
+        ],
+        vec![
+            "replay",
+            "tests/data/golden.vrec",
+            "--headless",
+            "--every",
+            "0",
+        ],
+    ] {
+        let (code, _, err) = volley(&args);
+        let flag = args[args.len() - 2];
+        assert_eq!((code, err.lines().count()), (2, 1), "{args:?}: {err}");
+        assert!(err.contains(flag) && err.contains('0'), "{args:?}: {err}");
+    }
+}
+
+/// `--help` lists the integrator and format names from the code, not from a hand-kept list.
+#[test]
+fn help_lists_the_integrator_and_format_names() {
+    let (code, out, _) = volley(&["headless", "--help"]);
+    assert_eq!(code, 0);
+    for i in volley::Integrator::ALL {
+        assert!(out.contains(i.name()), "--help lacks {}: {out}", i.name());
+    }
+    assert!(out.contains("[possible values: table, csv, json]"), "{out}");
+    let (code, _, err) = volley(&[
+        "window",
+        "--integrator",
+        "leapfrog",
+        "--exit-after-frames",
+        "1",
+    ]);
+    assert_eq!((code, err.lines().count()), (2, 1), "{err}");
+    assert!(
+        err.contains("--integrator: unknown `leapfrog`") && err.contains("rk4"),
+        "{err}"
+    );
+}

@@ -197,13 +197,55 @@ fn recording_is_refused_while_recording_diverged_or_replaying() {
 
 #[test]
 fn the_default_file_is_named_after_the_scene_and_never_overwritten() {
+    use volley::app::session::recording::{create_default, default_path};
     let dir = support::scratch_dir("default-name");
-    let first = volley::app::session::recording::default_path(&dir, "hard/stiff spring", 1700);
+    let first = default_path(&dir, "hard/stiff spring", 1700, 1);
     assert_eq!(first, dir.join("recordings/hard_stiff_spring-1700.vrec"));
     std::fs::create_dir_all(first.parent().unwrap()).unwrap();
     std::fs::write(&first, b"taken").unwrap();
-    let second = volley::app::session::recording::default_path(&dir, "hard/stiff spring", 1700);
+    let (second, _) = create_default(&dir, "hard/stiff spring", 1700).unwrap();
     assert_eq!(second, dir.join("recordings/hard_stiff_spring-1700-2.vrec"));
+    assert_eq!(std::fs::read(&first).unwrap(), b"taken");
+    // The session's own toggle uses the same names, in its recordings folder.
+    let mut session = coverage();
+    session.recordings_dir = dir.clone();
+    session.toggle_recording();
+    assert_eq!(session.last_error, None);
+    let path = session.recording().unwrap().path().to_path_buf();
+    assert_eq!(path.parent().unwrap(), dir.join("recordings"));
+    session.toggle_recording();
+    assert!(Recording::open(&path).is_ok());
+}
+
+/// `recordings` is a file: the toggle fails at once with the path and the cause in the panel's
+/// error line, after a bounded number of file-system calls (it used to probe `-2`, `-3`, ...
+/// without end); every name taken fails the same way after `DEFAULT_NAME_TRIES` names.
+#[test]
+fn a_default_folder_that_cannot_be_used_is_an_error_in_the_panel_not_a_hang() {
+    use volley::app::session::recording::{DEFAULT_NAME_TRIES, create_default, default_path};
+    let dir = support::scratch_dir("default-blocked");
+    std::fs::write(dir.join("recordings"), b"a file, not a folder").unwrap();
+    let mut session = coverage();
+    session.recordings_dir = dir.clone();
+    let started = std::time::Instant::now();
+    session.toggle_recording();
+    assert!(started.elapsed() < Duration::from_secs(5));
+    assert!(session.recording().is_none());
+    let e = session.last_error.clone().expect("the refusal is shown");
+    assert!(
+        e.contains("recordings") && e.contains("cannot create its folder"),
+        "{e}"
+    );
+
+    let full = support::scratch_dir("default-full");
+    std::fs::create_dir_all(full.join("recordings")).unwrap();
+    for n in 1..=DEFAULT_NAME_TRIES {
+        std::fs::write(default_path(&full, "seed", 9, n), b"taken").unwrap();
+    }
+    let e = create_default(&full, "seed", 9).unwrap_err();
+    assert!(e.contains("every name is taken"), "{e}");
+    let after = default_path(&full, "seed", 9, DEFAULT_NAME_TRIES + 1);
+    assert!(!after.exists());
 }
 
 #[test]

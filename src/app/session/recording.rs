@@ -26,6 +26,11 @@ use crate::world::{Divergence, World};
 /// Folder (relative to the working directory) that recordings go to when no file is named.
 pub const DEFAULT_DIR: &str = "recordings";
 
+/// Most numbered names [`create_default`] tries in one second's name (`-2` up to this) before
+/// it gives up: enough for any person pressing a key, and a bound on the file-system calls the
+/// UI thread makes when something else is wrong.
+pub const DEFAULT_NAME_TRIES: u32 = 100;
+
 /// A recording in progress.
 pub struct LiveRecording {
     recorder: Recorder<File>,
@@ -49,13 +54,19 @@ impl LiveRecording {
     /// names the scene in the header.
     pub fn start(path: &Path, world: &World, scene_file: &str) -> Result<LiveRecording, String> {
         let fail = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| {
-                let dir = dir.display();
-                format!("{}: cannot create its folder {dir}: {e}", path.display())
-            })?;
-        }
+        create_folder_of(path)?;
         let file = File::create(path).map_err(fail)?;
+        LiveRecording::start_in(file, path, world, scene_file)
+    }
+
+    /// Starts recording `world` into `file`, already created at `path`.
+    fn start_in(
+        file: File,
+        path: &Path,
+        world: &World,
+        scene_file: &str,
+    ) -> Result<LiveRecording, String> {
+        let fail = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
         let options = RecordOptions {
             scene_file: scene_file.to_string(),
             ..RecordOptions::default()
@@ -155,7 +166,8 @@ impl std::fmt::Display for FinishedRecording {
 
 impl Session {
     /// Starts recording the first lane (in compare mode: the first integrator's world) from its
-    /// current tick, to `path` or to [`default_path`] in the working directory. Refused while
+    /// current tick, to `path` or to a new file named by [`default_path`] under the session's
+    /// recordings folder (the working directory unless set), made by [`create_default`]. Refused while
     /// replaying, while recording, and while the lane is stopped by a divergence.
     pub fn start_recording(&mut self, path: Option<PathBuf>) -> Result<(), String> {
         if self.replay.is_some() {
@@ -172,15 +184,16 @@ impl Session {
         if let Some(d) = lane.stopped {
             return Err(format!("the lane {d}: reset before recording"));
         }
-        let path = path.unwrap_or_else(|| {
-            let now = SystemTime::now().duration_since(UNIX_EPOCH);
-            default_path(
-                Path::new(""),
-                &self.scene.name,
-                now.map_or(0, |d| d.as_secs()),
-            )
-        });
-        let recording = LiveRecording::start(&path, &lane.sim.world, &self.scene_file)?;
+        let world = &lane.sim.world;
+        let recording = match path {
+            Some(path) => LiveRecording::start(&path, world, &self.scene_file)?,
+            None => {
+                let now = SystemTime::now().duration_since(UNIX_EPOCH);
+                let seconds = now.map_or(0, |d| d.as_secs());
+                let (path, file) = create_default(&self.recordings_dir, &self.scene.name, seconds)?;
+                LiveRecording::start_in(file, &path, world, &self.scene_file)?
+            }
+        };
         self.recording = Some(recording);
         Ok(())
     }
@@ -214,10 +227,10 @@ impl Session {
     }
 }
 
-/// `recordings/<scene>-<unix time>.vrec` under `dir`, with `-2`, `-3`, ... added when that file
-/// exists (two recordings in one second); characters other than letters, digits, `-`, `_` and
-/// `.` in the scene name become `_`.
-pub fn default_path(dir: &Path, scene: &str, unix_seconds: u64) -> PathBuf {
+/// `recordings/<scene>-<unix time>.vrec` under `dir`, or with `-n` added for `n >= 2` (two
+/// recordings in one second); characters other than letters, digits, `-`, `_` and `.` in the
+/// scene name become `_`.
+pub fn default_path(dir: &Path, scene: &str, unix_seconds: u64, n: u32) -> PathBuf {
     let name: String = scene
         .chars()
         .map(|c| {
@@ -229,13 +242,48 @@ pub fn default_path(dir: &Path, scene: &str, unix_seconds: u64) -> PathBuf {
         })
         .collect();
     let base = dir.join(DEFAULT_DIR);
-    (1..)
-        .map(|n| match n {
-            1 => base.join(format!("{name}-{unix_seconds}.vrec")),
-            n => base.join(format!("{name}-{unix_seconds}-{n}.vrec")),
-        })
-        .find(|p| matches!(std::fs::symlink_metadata(p), Err(e) if e.kind() == ErrorKind::NotFound))
-        .expect("some numbered name is free")
+    match n {
+        0 | 1 => base.join(format!("{name}-{unix_seconds}.vrec")),
+        n => base.join(format!("{name}-{unix_seconds}-{n}.vrec")),
+    }
+}
+
+/// Creates the first free [`default_path`] (its folder too) and opens it, never overwriting a
+/// file: each name is created with `create_new`, so a file that appears between two calls is
+/// not clobbered either. Tries at most [`DEFAULT_NAME_TRIES`] names and stops at the first error
+/// other than "exists" (the folder is a file, no permission), naming the path and the cause.
+pub fn create_default(
+    dir: &Path,
+    scene: &str,
+    unix_seconds: u64,
+) -> Result<(PathBuf, File), String> {
+    let first = default_path(dir, scene, unix_seconds, 1);
+    create_folder_of(&first)?;
+    for n in 1..=DEFAULT_NAME_TRIES {
+        let path = default_path(dir, scene, unix_seconds, n);
+        match File::options().write(true).create_new(true).open(&path) {
+            Ok(file) => return Ok((path, file)),
+            Err(e) if e.kind() == ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(format!("{}: cannot write: {e}", path.display())),
+        }
+    }
+    let last = default_path(dir, scene, unix_seconds, DEFAULT_NAME_TRIES);
+    Err(format!(
+        "{} to {}: every name is taken; name a file to record to",
+        first.display(),
+        last.display()
+    ))
+}
+
+/// Creates the folder `path` goes in, if it has one and it is missing.
+fn create_folder_of(path: &Path) -> Result<(), String> {
+    match path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        Some(dir) => std::fs::create_dir_all(dir).map_err(|e| {
+            let dir = dir.display();
+            format!("{}: cannot create its folder {dir}: {e}", path.display())
+        }),
+        None => Ok(()),
+    }
 }
 
 /// The first lane's observer while it records: the recorder first, then the history, for every

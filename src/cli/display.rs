@@ -1,0 +1,127 @@
+//! What the two subcommands that open a window (`volley window`, `volley replay`) share: the
+//! window's size, pacing and closing, its errors' exit code, and the report it leaves behind.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use volley::app::{AppError, RunSummary, WindowOptions};
+
+use super::{EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail};
+
+/// Parses `WxH` (each side 1 to 16384).
+pub fn parse_size(flag: &str, text: &str) -> Result<(u32, u32), Failure> {
+    let parsed = text
+        .split_once(['x', 'X'])
+        .and_then(|(w, h)| Some((w.trim().parse::<u32>().ok()?, h.trim().parse::<u32>().ok()?)));
+    match parsed {
+        Some((w, h)) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => Ok((w, h)),
+        _ => Err(fail(
+            EXIT_INPUT,
+            format!("{flag}: expected WIDTHxHEIGHT, each 1 to 16384, got `{text}`"),
+        )),
+    }
+}
+
+/// The window options `volley window` and `volley replay` share: size, pacing, closing.
+#[derive(Args, Clone, Debug)]
+pub struct DisplayArgs {
+    /// Close after drawing this many frames (exit code 0, or 1 for a replay that parted).
+    #[arg(long, value_name = "N")]
+    pub exit_after_frames: Option<u64>,
+    /// Save the last frame, panel included, to this PNG before closing.
+    #[arg(long, value_name = "PNG")]
+    pub screenshot: Option<PathBuf>,
+    /// Window size, WIDTHxHEIGHT in logical pixels.
+    #[arg(long, value_name = "WxH", default_value = "1280x800")]
+    pub size: String,
+    /// Feed the loop steady frames of this rate (Hz) instead of the real clock: the same run
+    /// on every machine, for screenshots and tests.
+    #[arg(long, value_name = "HZ")]
+    pub frame_rate: Option<f64>,
+    /// Start paused.
+    #[arg(long)]
+    pub paused: bool,
+    /// Sim seconds per real second at start (0 to 100).
+    #[arg(long, default_value_t = 1.0)]
+    pub time_scale: f64,
+    /// For tests: resize the window, minimise and restore it, and lose its surface, three
+    /// frames apart, drawing on after each.
+    #[arg(long)]
+    pub surface_drill: bool,
+}
+
+impl Default for DisplayArgs {
+    /// The command line's defaults.
+    fn default() -> Self {
+        DisplayArgs {
+            exit_after_frames: None,
+            screenshot: None,
+            size: "1280x800".into(),
+            frame_rate: None,
+            paused: false,
+            time_scale: 1.0,
+            surface_drill: false,
+        }
+    }
+}
+
+impl DisplayArgs {
+    /// Checks the options and makes the window's options of them (compare mode off, no
+    /// scenes for the picker, watching off, no recording: the caller fills those in).
+    pub fn options(&self) -> Result<WindowOptions, Failure> {
+        let size = parse_size("--size", &self.size)?;
+        if let Some(hz) = self.frame_rate
+            && !(hz.is_finite() && hz > 0.0)
+        {
+            return Err(fail(
+                EXIT_INPUT,
+                format!("--frame-rate: expected a rate > 0, got {hz}"),
+            ));
+        }
+        if !(self.time_scale.is_finite() && (0.0..=100.0).contains(&self.time_scale)) {
+            return Err(fail(
+                EXIT_INPUT,
+                "--time-scale: expected a number from 0 to 100",
+            ));
+        }
+        Ok(WindowOptions {
+            compare: Vec::new(),
+            exit_after_frames: self.exit_after_frames,
+            screenshot: self.screenshot.clone(),
+            size,
+            frame_rate: self.frame_rate,
+            paused: self.paused,
+            time_scale: self.time_scale,
+            watch: false,
+            scenes: Vec::new(),
+            record: None,
+            surface_drill: self.surface_drill,
+        })
+    }
+}
+
+/// Every window error is the environment's (exit code 4).
+pub fn window_failure(e: AppError) -> Failure {
+    match e {
+        AppError::NoDisplay(_) | AppError::Gpu(_) | AppError::Io(_) => fail(EXIT_ENVIRONMENT, e),
+    }
+}
+
+/// Prints what a window run leaves behind: its recordings, one line each, and with a frame
+/// limit the median frame time.
+pub fn report(display: &DisplayArgs, summary: &RunSummary) {
+    for r in &summary.recordings {
+        println!("{r}");
+    }
+    if let (Some(_), Some(interval), Some(work)) = (
+        display.exit_after_frames,
+        summary.interval_ms,
+        summary.work_ms,
+    ) {
+        println!(
+            "window: {} frames, median frame {interval:.2} ms, of which work {work:.2} ms, on {}",
+            summary.frames, summary.adapter
+        );
+    }
+}
