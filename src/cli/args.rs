@@ -86,6 +86,34 @@ impl TypedValueParser for IntegratorParser {
     }
 }
 
+/// A count of ticks (`--every`, `--frame-every`, `--hash-every`): a whole number, at least 1;
+/// anything else is refused naming the flag.
+#[derive(Clone, Copy, Debug)]
+pub struct TickCountParser;
+
+impl TypedValueParser for TickCountParser {
+    type Value = u64;
+
+    fn parse_ref(
+        &self,
+        _cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &OsStr,
+    ) -> Result<u64, clap::Error> {
+        let flag = arg
+            .and_then(clap::Arg::get_long)
+            .map_or_else(|| "--every".to_string(), |l| format!("--{l}"));
+        let text = value.to_string_lossy();
+        match text.parse::<u64>() {
+            Ok(n) if n >= 1 => Ok(n),
+            _ => Err(clap::Error::raw(
+                ErrorKind::InvalidValue,
+                format!("{flag}: expected a number of ticks, at least 1, got `{text}`\n"),
+            )),
+        }
+    }
+}
+
 /// Parses an integrator name for `flag`, listing the valid names on error.
 pub fn parse_integrator(flag: &str, name: &str) -> Result<Integrator, Failure> {
     Integrator::parse(name).ok_or_else(|| {

@@ -10,8 +10,8 @@ use volley::table::{Format, Summary, TableWriter};
 use volley::{SimLoop, World};
 
 use super::args::{
-    RunArgs, format_parser, load_commands, load_scene, loop_failure, print_stability_warnings,
-    run_length,
+    RunArgs, TickCountParser, format_parser, load_commands, load_scene, loop_failure,
+    print_stability_warnings, run_length,
 };
 use super::{EXIT_ENVIRONMENT, EXIT_MISMATCH, Failure, fail};
 
@@ -22,7 +22,7 @@ pub struct HeadlessArgs {
     #[command(flatten)]
     pub run: RunArgs,
     /// Print a row every K ticks (at least 1).
-    #[arg(long, value_name = "K", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_name = "K", default_value_t = 1, value_parser = TickCountParser)]
     pub every: u64,
     /// Output format.
     #[arg(long, value_parser = format_parser(), default_value_t = Format::Table)]
@@ -41,7 +41,7 @@ pub struct HeadlessArgs {
     #[arg(long, value_name = "WxH", requires = "frames")]
     pub size: Option<String>,
     /// Ticks between frames for `--frames` (at least 1).
-    #[arg(long, value_name = "K", default_value_t = 1, requires = "frames", value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_name = "K", default_value_t = 1, requires = "frames", value_parser = TickCountParser)]
     pub frame_every: u64,
     /// The final state hash this run must end with (as the summary prints it): a different one
     /// exits 1 after the summary, for CI that pins a scene's result.

@@ -8,7 +8,7 @@ use volley::hash::hex;
 use volley::replay::{RecordOptions, Recorder};
 use volley::{LoopError, SimLoop, World};
 
-use super::args::{RunArgs, load_commands, load_scene, loop_failure, run_length};
+use super::args::{RunArgs, TickCountParser, load_commands, load_scene, loop_failure, run_length};
 use super::{EXIT_DIVERGED, EXIT_ENVIRONMENT, Failure, fail};
 
 /// Arguments of `volley record`.
@@ -21,7 +21,7 @@ pub struct RecordArgs {
     #[arg(short = 'o', long = "output")]
     pub output: PathBuf,
     /// Store the state hash every K ticks (1: every tick).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, default_value_t = 1, value_parser = TickCountParser)]
     pub hash_every: u64,
     /// Store a keyframe every K ticks for seeking and field reports (0: start and end only).
     #[arg(long, default_value_t = 600)]

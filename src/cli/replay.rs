@@ -17,7 +17,7 @@ use volley::hash::{hex, state_hash};
 use volley::replay::{ErrorKind, Recording, Replay, ReplayError};
 use volley::table::{Format, Summary, TableWriter};
 
-use super::args::format_parser;
+use super::args::{TickCountParser, format_parser};
 use super::display::{DisplayArgs, report, window_failure};
 use super::{EXIT_ENVIRONMENT, EXIT_INPUT, EXIT_MISMATCH, Failure, fail};
 
@@ -36,7 +36,7 @@ pub struct ReplayArgs {
     #[arg(long)]
     pub headless: bool,
     /// Print a row every K ticks (default 1, at least 1; implies the table).
-    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_name = "K", value_parser = TickCountParser)]
     pub every: Option<u64>,
     /// Output format of the table (default table; implies the table).
     #[arg(long, value_parser = format_parser())]

@@ -178,7 +178,10 @@ pub(crate) trait SchemeVisitor {
 }
 
 /// Picks the force model (the [`crate::forces::ConstantField`] or [`DragField`] fast path when
-/// one applies, else the general [`Forces`]) and the scheme, once.
+/// one applies, else the general [`Forces`]) and the scheme, once. Inlined into its callers
+/// (the step's stages): out of line, the visitor (a few hundred bytes of lane views) would be
+/// copied into each call.
+#[inline(always)]
 pub(crate) fn visit<V: SchemeVisitor>(integrator: Integrator, forces: &Forces, v: V) -> V::Out {
     if let Some(field) = forces.constant_field() {
         return visit_model(integrator, &field, v);
@@ -192,6 +195,7 @@ pub(crate) fn visit<V: SchemeVisitor>(integrator: Integrator, forces: &Forces, v
     visit_model(integrator, forces, v)
 }
 
+#[inline(always)]
 fn visit_model<F: ForceModel, V: SchemeVisitor>(integrator: Integrator, f: &F, v: V) -> V::Out {
     match integrator {
         Integrator::ExplicitEuler => v.visit(ExplicitEuler(f)),

@@ -112,6 +112,7 @@ pub(super) struct BatchOut {
 
 impl SchemeVisitor for Batch<'_, '_> {
     type Out = BatchOut;
+    #[inline(always)]
     fn visit<S: Scheme>(self, scheme: S) -> BatchOut {
         let Batch {
             mut lanes,

@@ -13,6 +13,7 @@ use super::lanes::{Fixed, Lanes, split_run};
 
 impl World {
     /// Integrate + contacts over all bodies; returns the first body whose state is not finite.
+    #[inline]
     pub(super) fn integrate(&mut self, tick: u64, t0: f64, h: f64) -> Option<usize> {
         let (chunks, carries) = self.prepare_chunks();
         let gravity = self.forces.gravity.map_or(0.0, DVec3::length);
@@ -62,6 +63,7 @@ pub(super) struct KernelOut {
 
 impl KernelOut {
     /// Combines two chunks in order: counts add, the lower index wins.
+    #[inline]
     pub(super) fn then(self, later: KernelOut) -> KernelOut {
         KernelOut {
             evals: self.evals + later.evals,
@@ -80,6 +82,7 @@ pub(super) struct Integrate<'a, 'f> {
 
 impl SchemeVisitor for Integrate<'_, '_> {
     type Out = KernelOut;
+    #[inline(always)]
     fn visit<S: Scheme>(self, scheme: S) -> KernelOut {
         let Integrate {
             mut lanes,
@@ -127,6 +130,7 @@ pub(super) fn finite(v: DVec3) -> bool {
 }
 
 /// The per-body loop of one chunk, in the widest version the CPU runs ([`simd_level`]).
+#[inline]
 pub(super) fn run<S: Scheme, const CONTACTS: bool>(
     scheme: &S,
     l: Lanes,

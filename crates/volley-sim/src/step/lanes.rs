@@ -15,6 +15,7 @@ impl World {
     /// The number of parallel chunks for this world's size and thread count, with an event
     /// buffer for each; sizes Verlet's carried force (invalidating it when the count changed).
     /// Returns the chunk count and whether the integrator carries a force.
+    #[inline]
     pub(super) fn prepare_chunks(&mut self) -> (usize, bool) {
         let n = self.bodies.len();
         let chunks = if self.threads > 1 && n >= 2 * PARALLEL_MIN_CHUNK {
@@ -54,6 +55,7 @@ pub(super) struct Lanes<'a> {
     pub(super) radius: &'a [f64],
 }
 
+#[inline]
 pub(super) fn split_mut(s: &mut [f64], mid: usize) -> (&mut [f64], &mut [f64]) {
     if s.is_empty() {
         (&mut [], &mut [])
@@ -73,6 +75,7 @@ pub(super) struct Fixed<'a> {
 
 impl<'a> Fixed<'a> {
     /// Lanes over these bodies with `p`, `mV` and (if `carries`) the carried force.
+    #[inline]
     pub(super) fn lanes(
         self,
         p: &'a mut Vec3s,
@@ -104,16 +107,19 @@ impl<'a> Fixed<'a> {
     }
 }
 
+#[inline]
 pub(super) fn sub_mut(s: &mut [f64], start: usize, end: usize) -> &mut [f64] {
     if s.is_empty() { s } else { &mut s[start..end] }
 }
 
 impl<'a> Lanes<'a> {
+    #[inline]
     pub(super) fn len(&self) -> usize {
         self.ids.len()
     }
 
     /// The bodies `start..end` of these lanes, borrowed.
+    #[inline]
     pub(super) fn sub(&mut self, start: usize, end: usize) -> Lanes<'_> {
         Lanes {
             offset: self.offset + start,
@@ -134,6 +140,7 @@ impl<'a> Lanes<'a> {
     }
 
     /// Copies the written state (p, mV, carried force) of `from` into these lanes.
+    #[inline]
     pub(super) fn copy_state(&mut self, from: &Lanes) {
         self.px.copy_from_slice(from.px);
         self.py.copy_from_slice(from.py);
@@ -146,6 +153,7 @@ impl<'a> Lanes<'a> {
         self.cz.copy_from_slice(from.cz);
     }
 
+    #[inline]
     pub(super) fn split_at(self, mid: usize) -> (Lanes<'a>, Lanes<'a>) {
         let (ids0, ids1) = self.ids.split_at(mid);
         let (px0, px1) = self.px.split_at_mut(mid);
