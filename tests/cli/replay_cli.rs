@@ -95,7 +95,7 @@ fn a_divergent_recording_exits_1_naming_tick_body_and_field() {
         volley::replay::Recorder::start(Vec::new(), &sim.world, options(1, 10)).unwrap();
     sim.run_until(20, &mut source, &mut recorder).unwrap();
     let mut s = sim.world.snapshot();
-    s.mv.z[0] = s.mv.z[0].next_down();
+    s.bodies.mv.z[0] = s.bodies.mv.z[0].next_down();
     sim.world.restore(&s).unwrap();
     sim.run_until(40, &mut source, &mut recorder).unwrap();
     std::fs::write(&file, recorder.finish(&sim.world).unwrap().0).unwrap();

@@ -355,7 +355,7 @@ fn a_replay_that_parts_from_its_recording_pauses_and_names_the_tick() {
     let mut recorder = Recorder::start(out, &sim.world, replay_support::options(1, 10)).unwrap();
     sim.run_until(20, &mut source, &mut recorder).unwrap();
     let mut s = sim.world.snapshot();
-    s.mv.z[0] = s.mv.z[0].next_down();
+    s.bodies.mv.z[0] = s.bodies.mv.z[0].next_down();
     sim.world.restore(&s).unwrap();
     sim.run_until(40, &mut source, &mut recorder).unwrap();
     recorder.finish(&sim.world).unwrap();

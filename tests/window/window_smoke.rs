@@ -200,7 +200,7 @@ fn a_window_replay_that_parts_from_its_recording_exits_1_with_the_report() {
     let mut recorder = volley::replay::Recorder::start(out, &sim.world, options).unwrap();
     sim.run_until(20, &mut source, &mut recorder).unwrap();
     let mut s = sim.world.snapshot();
-    s.mv.z[0] = s.mv.z[0].next_down();
+    s.bodies.mv.z[0] = s.bodies.mv.z[0].next_down();
     sim.world.restore(&s).unwrap();
     sim.run_until(40, &mut source, &mut recorder).unwrap();
     recorder.finish(&sim.world).unwrap();

@@ -90,24 +90,6 @@ impl Vec3s {
         self.z[i] = v.z;
     }
 
-    fn push(&mut self, v: DVec3) {
-        self.x.push(v.x);
-        self.y.push(v.y);
-        self.z.push(v.z);
-    }
-
-    fn remove(&mut self, i: usize) {
-        self.x.remove(i);
-        self.y.remove(i);
-        self.z.remove(i);
-    }
-
-    fn clear(&mut self) {
-        self.x.clear();
-        self.y.clear();
-        self.z.clear();
-    }
-
     pub(crate) fn resize(&mut self, n: usize) {
         self.x.resize(n, 0.0);
         self.y.resize(n, 0.0);
@@ -115,16 +97,19 @@ impl Vec3s {
     }
 
     /// Number of vectors.
+    #[inline]
     pub fn len(&self) -> usize {
         self.x.len()
     }
 
     /// Whether there are none.
+    #[inline]
     pub fn is_empty(&self) -> bool {
         self.x.is_empty()
     }
 
     /// Copies all vectors from `other` (reusing this one's allocation).
+    #[inline]
     pub fn copy_from(&mut self, other: &Vec3s) {
         self.x.clone_from(&other.x);
         self.y.clone_from(&other.y);
@@ -132,24 +117,92 @@ impl Vec3s {
     }
 
     /// Iterates over the vectors.
+    #[inline]
     pub fn iter(&self) -> impl ExactSizeIterator<Item = DVec3> + '_ {
         (0..self.len()).map(|i| self.get(i))
     }
 }
 
 /// All bodies, structure of arrays, in id order.
+///
+/// The f64 columns are listed once, in [`COLUMNS`] (names) and [`Bodies::column`] (fields):
+/// the state hash, the keyframe codec and the replay's field diff all go through that list, so
+/// a new per-body field is a field here, its name and arm there, and its value in
+/// `Bodies::push` (docs/contributing.md). A world's
+/// bodies are read-only from outside the crate (`World::bodies`); a [`crate::world::State`]'s
+/// are plain data that [`crate::World::restore`] validates.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bodies {
-    pub(crate) id: Vec<BodyId>,
-    pub(crate) p: Vec3s,
-    pub(crate) mv: Vec3s,
-    pub(crate) mass: Vec<f64>,
-    /// 1 / mass, computed once at spawn so the hot loop multiplies instead of dividing.
+    /// Ids, strictly increasing.
+    pub id: Vec<BodyId>,
+    /// Positions p (m).
+    pub p: Vec3s,
+    /// Momenta mV (kg m/s).
+    pub mv: Vec3s,
+    /// Masses (kg), each > 0.
+    pub mass: Vec<f64>,
+    /// 1 / mass, computed at spawn (and on restore) so the hot loop multiplies instead of
+    /// dividing. Derived, so in no column list: never stored, hashed or compared.
     pub(crate) inv_mass: Vec<f64>,
-    pub(crate) radius: Vec<f64>,
+    /// Radii (m), each >= 0.
+    pub radius: Vec<f64>,
     /// Energy above which the guard stops the run, per body (J).
-    pub(crate) energy_cap: Vec<f64>,
+    pub energy_cap: Vec<f64>,
 }
+
+/// One f64 column of [`Bodies`]: its name in reports and its place in [`COLUMNS`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Column {
+    /// The name the replay's field diff prints (`p.x`, `mV.z`, `mass`).
+    pub name: &'static str,
+    /// Its index in [`COLUMNS`], which [`Bodies::column`] maps to the field.
+    pub index: usize,
+}
+
+impl Column {
+    /// The column of a set of bodies.
+    #[inline(always)]
+    pub fn get(self, b: &Bodies) -> &Vec<f64> {
+        b.column(self.index)
+    }
+
+    /// The same column, to write (decoding a keyframe, editing a [`crate::world::State`]).
+    #[inline(always)]
+    pub fn get_mut(self, b: &mut Bodies) -> &mut Vec<f64> {
+        b.column_mut(self.index)
+    }
+}
+
+/// Every f64 column of [`Bodies`] that is state, in the order keyframes store them. The first
+/// [`HASHED_COLUMNS`] are what the state hash covers after each body's id; the rest (the guard's
+/// bound, derived from the scene and the start state) are stored and compared, not hashed.
+/// [`Bodies::column`] maps each index to its field.
+pub const COLUMNS: [Column; 9] = {
+    let names = [
+        "p.x",
+        "p.y",
+        "p.z",
+        "mV.x",
+        "mV.y",
+        "mV.z",
+        "mass",
+        "radius",
+        "energy_cap",
+    ];
+    let mut out = [Column { name: "", index: 0 }; 9];
+    let mut i = 0;
+    while i < names.len() {
+        out[i] = Column {
+            name: names[i],
+            index: i,
+        };
+        i += 1;
+    }
+    out
+};
+
+/// How many of [`COLUMNS`], from the first, the state hash covers.
+pub const HASHED_COLUMNS: usize = 8;
 
 impl Bodies {
     /// Number of bodies.
@@ -163,36 +216,43 @@ impl Bodies {
     }
 
     /// Ids in storage (= id) order.
+    #[inline]
     pub fn ids(&self) -> &[BodyId] {
         &self.id
     }
 
     /// Positions (m).
+    #[inline]
     pub fn positions(&self) -> &Vec3s {
         &self.p
     }
 
     /// Momenta (kg m/s).
+    #[inline]
     pub fn momenta(&self) -> &Vec3s {
         &self.mv
     }
 
     /// Masses (kg).
+    #[inline]
     pub fn masses(&self) -> &[f64] {
         &self.mass
     }
 
     /// Radii (m).
+    #[inline]
     pub fn radii(&self) -> &[f64] {
         &self.radius
     }
 
     /// Velocity (m/s) of the body at storage index `i`, formed as the integrators form it.
+    #[inline]
     pub fn velocity(&self, i: usize) -> DVec3 {
         self.mv.get(i) * self.inv_mass[i]
     }
 
     /// State of the body at storage index `i`.
+    #[inline]
     pub fn state(&self, i: usize) -> BodyState {
         BodyState {
             p: self.p.get(i),
@@ -201,11 +261,13 @@ impl Bodies {
     }
 
     /// Storage index of a body, by binary search over the sorted ids.
+    #[inline]
     pub fn index_of(&self, id: BodyId) -> Option<usize> {
         self.id.binary_search(&id).ok()
     }
 
-    /// Appends a body with momentum `mass * velocity` and no energy bound yet.
+    /// Appends a body with momentum `mass * velocity` and no energy bound yet (infinite): one
+    /// value per entry of [`COLUMNS`], in its order.
     pub(crate) fn push(
         &mut self,
         id: BodyId,
@@ -214,32 +276,87 @@ impl Bodies {
         mass: f64,
         radius: f64,
     ) {
+        let mv = mass * velocity;
+        let values = [
+            position.x,
+            position.y,
+            position.z,
+            mv.x,
+            mv.y,
+            mv.z,
+            mass,
+            radius,
+            f64::INFINITY,
+        ];
+        for (column, value) in COLUMNS.iter().zip(values) {
+            column.get_mut(self).push(value);
+        }
         self.id.push(id);
-        self.p.push(position);
-        self.mv.push(mass * velocity);
-        self.mass.push(mass);
         self.inv_mass.push(1.0 / mass);
-        self.radius.push(radius);
-        self.energy_cap.push(f64::INFINITY);
     }
 
+    /// Removes the body at storage index `i`, keeping the order of the rest.
     pub(crate) fn remove(&mut self, i: usize) {
+        for column in &COLUMNS {
+            column.get_mut(self).remove(i);
+        }
         self.id.remove(i);
-        self.p.remove(i);
-        self.mv.remove(i);
-        self.mass.remove(i);
         self.inv_mass.remove(i);
-        self.radius.remove(i);
-        self.energy_cap.remove(i);
     }
 
+    /// Removes every body.
     pub(crate) fn clear(&mut self) {
+        for column in &COLUMNS {
+            column.get_mut(self).clear();
+        }
         self.id.clear();
-        self.p.clear();
-        self.mv.clear();
-        self.mass.clear();
         self.inv_mass.clear();
-        self.radius.clear();
-        self.energy_cap.clear();
+    }
+
+    /// Recomputes `1 / mass` for every body, as at spawn (after the masses were assigned).
+    pub(crate) fn recompute_inv_mass(&mut self) {
+        self.inv_mass.clear();
+        self.inv_mass.extend(self.mass.iter().map(|m| 1.0 / m));
+    }
+
+    /// Column `k` of [`COLUMNS`]. With a constant `k` (the hash's unrolled loop) this is a
+    /// plain field access.
+    #[inline(always)]
+    pub fn column(&self, k: usize) -> &Vec<f64> {
+        match k {
+            0 => &self.p.x,
+            1 => &self.p.y,
+            2 => &self.p.z,
+            3 => &self.mv.x,
+            4 => &self.mv.y,
+            5 => &self.mv.z,
+            6 => &self.mass,
+            7 => &self.radius,
+            8 => &self.energy_cap,
+            _ => unreachable!("COLUMNS has 9 entries"),
+        }
+    }
+
+    /// Column `k` of [`COLUMNS`], to write.
+    #[inline(always)]
+    pub fn column_mut(&mut self, k: usize) -> &mut Vec<f64> {
+        match k {
+            0 => &mut self.p.x,
+            1 => &mut self.p.y,
+            2 => &mut self.p.z,
+            3 => &mut self.mv.x,
+            4 => &mut self.mv.y,
+            5 => &mut self.mv.z,
+            6 => &mut self.mass,
+            7 => &mut self.radius,
+            8 => &mut self.energy_cap,
+            _ => unreachable!("COLUMNS has 9 entries"),
+        }
+    }
+
+    /// Whether every column has one entry per id.
+    pub fn lengths_agree(&self) -> bool {
+        let n = self.id.len();
+        COLUMNS.iter().all(|c| c.get(self).len() == n)
     }
 }

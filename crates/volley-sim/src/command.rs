@@ -253,7 +253,7 @@ impl World {
     pub fn apply(&mut self, command: &Command) -> Result<(), CommandError> {
         match *command {
             Command::Fire => {
-                let l = self.launcher;
+                let l = self.state.launcher;
                 self.spawn(&BodySpec {
                     mass: l.mass,
                     radius: l.radius,
@@ -283,7 +283,7 @@ impl World {
                 {
                     return Err(CommandError::InvalidLaunch);
                 }
-                let l = &mut self.launcher;
+                let l = &mut self.state.launcher;
                 l.speed = speed.unwrap_or(l.speed);
                 l.elevation_deg = elevation_deg.unwrap_or(l.elevation_deg);
                 l.azimuth_deg = azimuth_deg.unwrap_or(l.azimuth_deg);
@@ -299,7 +299,7 @@ impl World {
                 }
                 let candidate = if enabled {
                     let only = declared.filtered(|k| k == kind);
-                    let mut f = self.forces;
+                    let mut f = self.state.forces;
                     f.gravity = f.gravity.or(only.gravity);
                     f.constant = f.constant.or(only.constant);
                     f.linear_drag = f.linear_drag.or(only.linear_drag);
@@ -308,20 +308,22 @@ impl World {
                     f.point_mass = f.point_mass.or(only.point_mass);
                     f
                 } else {
-                    self.forces.without(kind)
+                    self.state.forces.without(kind)
                 };
-                check_integrator(self.integrator, &candidate).map_err(CommandError::Integrator)?;
-                self.forces = candidate;
+                check_integrator(self.state.integrator, &candidate)
+                    .map_err(CommandError::Integrator)?;
+                self.state.forces = candidate;
             }
             Command::SetIntegrator(integrator) => {
-                check_integrator(integrator, &self.forces).map_err(CommandError::Integrator)?;
-                self.integrator = integrator;
+                check_integrator(integrator, &self.state.forces)
+                    .map_err(CommandError::Integrator)?;
+                self.state.integrator = integrator;
             }
             Command::Reset => {
                 self.clear_bodies();
-                self.forces = self.scene.forces;
-                self.launcher = self.scene.launcher;
-                self.rng = crate::world::SplitMix64(self.scene.seed);
+                self.state.forces = self.scene.forces;
+                self.state.launcher = self.scene.launcher;
+                self.state.rng = crate::world::SplitMix64(self.scene.seed);
                 self.populate();
                 self.diverged = None;
             }

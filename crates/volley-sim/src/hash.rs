@@ -15,6 +15,7 @@
 
 use xxhash_rust::xxh3::{Xxh3, xxh3_64};
 
+use crate::body::{Bodies, HASHED_COLUMNS};
 use crate::world::World;
 
 /// Version tag at the start of the hashed stream; bump it if the layout changes.
@@ -38,8 +39,15 @@ pub fn canonical_bits(x: f64) -> u64 {
     }
 }
 
-/// 64-bit words hashed per body: id, p, mV, mass, radius.
-const WORDS_PER_BODY: usize = 9;
+/// 64-bit words hashed per body: the id and the hashed columns (p, mV, mass, radius).
+const WORDS_PER_BODY: usize = 1 + HASHED_COLUMNS;
+
+/// The hashed columns ([`crate::body::COLUMNS`]`[..HASHED_COLUMNS]`) of bodies `r`, in their order: the one
+/// list of per-body fields decides what the hash covers, as it decides what keyframes store.
+#[inline(always)]
+fn hashed_fields(b: &Bodies, r: std::ops::Range<usize>) -> [&[f64]; HASHED_COLUMNS] {
+    std::array::from_fn(|k| &b.column(k)[r.clone()])
+}
 /// Bytes hashed per body.
 const BODY_BYTES: usize = WORDS_PER_BODY * 8;
 /// Bytes before the first body: layout tag, tick, generator state, body count.
@@ -57,7 +65,7 @@ const BLOCK: usize = 64;
 /// This is on every recorded tick's path, so it avoids work the definition does not need:
 /// small worlds fill a buffer sized for them (no zeroing of a large one), the body words are
 /// written through fixed-size chunks, without a bounds check per word, and larger worlds build
-/// their records 8 bodies at a time where the CPU has AVX-512 (see [`write_bodies_wide`]).
+/// their records 8 bodies at a time where the CPU has AVX-512 (see `write_bodies_wide`).
 pub fn state_hash(world: &World) -> u64 {
     match world.bodies().len() {
         0..=1 => one_shot::<{ HEAD_BYTES + BODY_BYTES }>(world),
@@ -116,19 +124,9 @@ fn streamed(world: &World) -> u64 {
 #[inline]
 fn write_bodies(world: &World, range: std::ops::Range<usize>, out: &mut [u8]) -> usize {
     let b = world.bodies();
-    let (p, mv) = (b.positions(), b.momenta());
     let r = range;
     let ids = &b.ids()[r.clone()];
-    let fields: [&[f64]; 8] = [
-        &p.x[r.clone()],
-        &p.y[r.clone()],
-        &p.z[r.clone()],
-        &mv.x[r.clone()],
-        &mv.y[r.clone()],
-        &mv.z[r.clone()],
-        &b.masses()[r.clone()],
-        &b.radii()[r.clone()],
-    ];
+    let fields = hashed_fields(b, r);
     let chunks = &mut out.as_chunks_mut::<BODY_BYTES>().0[..ids.len()];
     for (i, (chunk, id)) in chunks.iter_mut().zip(ids).enumerate() {
         let (id_bytes, rest) = chunk.split_at_mut(8);
@@ -146,19 +144,8 @@ fn write_bodies(world: &World, range: std::ops::Range<usize>, out: &mut [u8]) ->
 #[inline]
 fn write_block(world: &World, range: std::ops::Range<usize>, out: &mut [u8]) -> usize {
     let b = world.bodies();
-    let (p, mv) = (b.positions(), b.momenta());
-    let r = range.clone();
-    let fields: [&[f64]; 8] = [
-        &p.x[r.clone()],
-        &p.y[r.clone()],
-        &p.z[r.clone()],
-        &mv.x[r.clone()],
-        &mv.y[r.clone()],
-        &mv.z[r.clone()],
-        &b.masses()[r.clone()],
-        &b.radii()[r.clone()],
-    ];
-    let ids = &b.ids()[r];
+    let fields = hashed_fields(b, range.clone());
+    let ids = &b.ids()[range.clone()];
     let chunks = &mut out.as_chunks_mut::<BODY_BYTES>().0[..ids.len()];
     let done = write_bodies_wide(&fields, ids, chunks);
     let rest = range.start + done..range.end;
@@ -171,7 +158,7 @@ fn write_block(world: &World, range: std::ops::Range<usize>, out: &mut [u8]) -> 
 /// being left to the scalar loop. Integer operations only, so the bytes are the scalar loop's.
 #[inline]
 fn write_bodies_wide(
-    fields: &[&[f64]; 8],
+    fields: &[&[f64]; HASHED_COLUMNS],
     ids: &[crate::body::BodyId],
     chunks: &mut [[u8; BODY_BYTES]],
 ) -> usize {
@@ -184,6 +171,12 @@ fn write_bodies_wide(
     0
 }
 
+// The wide writer transposes 8 x 8 words: a ninth hashed column needs a wider block.
+const _: () = assert!(
+    HASHED_COLUMNS == 8,
+    "write_bodies_avx512 transposes 8 hashed columns"
+);
+
 /// Eight bodies per step: each field's eight words loaded as one vector and canonicalised
 /// (`-0.0` to `+0.0`, every NaN to the quiet NaN, as [`canonical_bits`]), the 8 x 8 block of
 /// words transposed from field-major to body-major, and each body's eight words stored after
@@ -191,7 +184,7 @@ fn write_bodies_wide(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 fn write_bodies_avx512(
-    fields: &[&[f64]; 8],
+    fields: &[&[f64]; HASHED_COLUMNS],
     ids: &[crate::body::BodyId],
     chunks: &mut [[u8; BODY_BYTES]],
 ) -> usize {

@@ -19,7 +19,7 @@
 //!
 //! With a tolerance the study names the cheapest setting (fewest force evaluations per simulated
 //! second) whose largest trajectory error meets it. [`output`] writes the markdown table and the
-//! CSV, [`plot`] the work-precision diagram.
+//! CSV; the `volley` package's `plot` module draws the work-precision diagram.
 //!
 //! ```
 //! use volley_sim::study::{self, StudyConfig};

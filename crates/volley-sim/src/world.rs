@@ -4,12 +4,12 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-pub use crate::body::{Bodies, BodyId, Vec3s};
+pub use crate::body::{Bodies, BodyId, COLUMNS, Vec3s};
 use crate::contact::{Contacts, Event};
 use crate::forces::Forces;
 use crate::integrate::Integrator;
 pub use crate::rng::SplitMix64;
-use crate::scene::{BodySpec, Launcher, Scene};
+use crate::scene::{BodySpec, Guard, Launcher, Scene};
 
 /// Where a run's state went non-finite or gained energy it cannot have.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -52,6 +52,90 @@ impl std::fmt::Display for Divergence {
 
 impl std::error::Error for Divergence {}
 
+/// What a run is at a tick boundary: everything that steps and nothing that is fixed. A
+/// keyframe holds exactly this ([`crate::replay::keyframe`]), the state hash covers its tick,
+/// generator and hashed body columns ([`crate::hash`]), and [`World::restore`] validates one
+/// against the scene, then assigns it.
+///
+/// Restoring a state onto a world built from the same scene and stepping on gives the same bits
+/// as stepping on from the world it was taken from. What the scene fixes ([`Params`]) is not in
+/// it; `1 / mass` is recomputed on restore, exactly as at spawn. The last tick's events, the
+/// divergence flag and the thread count are not state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct State {
+    /// Ticks stepped since tick 0.
+    pub tick: u64,
+    /// Id the next spawned body gets.
+    pub next_id: u64,
+    /// The random generator.
+    pub rng: SplitMix64,
+    /// Integrator in use.
+    pub integrator: Integrator,
+    /// Active force terms: a subset of the scene's declared terms, with the declared values.
+    pub forces: Forces,
+    /// The launcher `Fire` uses.
+    pub launcher: Launcher,
+    /// Force evaluations since tick 0.
+    pub force_evals: u64,
+    /// The bodies, in id order.
+    pub bodies: Bodies,
+    /// Velocity Verlet's carried force (N) per body. In a keyframe, and in what
+    /// [`World::snapshot`] returns, it is there only when it is valid and empty otherwise; in a
+    /// world it is a buffer whose validity the world tracks.
+    pub carry: Vec3s,
+}
+
+/// A world's [`State`] under the name replays use for it.
+pub type Snapshot = State;
+
+/// How a world advances: plain data copied from its scene when the world is built, fixed for
+/// the world's life (a new dt or substep count builds a new world).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Params {
+    /// The physics step h (s): exactly the scene's timestep, a whole number of nanoseconds.
+    pub h: f64,
+    /// Integrator steps per tick (1 to [`crate::scene::MAX_SUBSTEPS`]).
+    pub substeps: u32,
+    /// Sim time (s) of tick 0; tick n is at `start_time + n * h`.
+    pub start_time: f64,
+    /// Ground, walls, targets and how contacts are detected.
+    pub contacts: Contacts,
+    /// The divergence guard: how often it checks and its energy factor.
+    pub guard: Guard,
+    /// The force terms the scene declares; the state's active terms are a subset of them.
+    pub declared: Forces,
+}
+
+impl Params {
+    /// The parameters of `scene`.
+    pub fn of_scene(scene: &Scene) -> Params {
+        Params {
+            h: scene.timestep.as_nanos() as f64 * 1e-9,
+            substeps: scene.substeps,
+            start_time: scene.start_time,
+            contacts: Contacts {
+                ground: scene.ground,
+                walls: scene.walls.clone(),
+                targets: scene.targets.clone(),
+                detection: scene.detection,
+            },
+            guard: scene.guard,
+            declared: scene.forces,
+        }
+    }
+}
+
+/// Buffers the step reuses from tick to tick; never state, never compared.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Scratch {
+    /// Events of the last tick.
+    pub(crate) events: Vec<Event>,
+    /// One event buffer per parallel chunk, concatenated in chunk order after a tick.
+    pub(crate) chunk_events: Vec<Vec<Event>>,
+    /// The state a batch of ticks started from ([`World::step_ticks`]); grown on first use.
+    pub(crate) batch_backup: BatchBackup,
+}
+
 /// The state [`World::step_ticks`] saves before a batch, to undo it.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct BatchBackup {
@@ -60,33 +144,20 @@ pub(crate) struct BatchBackup {
     pub(crate) carry: Vec3s,
 }
 
-/// The simulation state and everything that decides how it advances.
+/// One run: its [`State`], the [`Params`] it advances by, and the scratch buffers of the step.
 #[derive(Clone, Debug)]
 pub struct World {
+    /// The scene the world was built from (for `Reset` and its bodies' start states).
     pub(crate) scene: Scene,
-    pub(crate) bodies: Bodies,
-    pub(crate) next_id: u64,
-    pub(crate) tick: u64,
-    pub(crate) h: f64,
-    pub(crate) integrator: Integrator,
-    pub(crate) substeps: u32,
-    /// Active force terms: the declared ones minus those toggled off.
-    pub(crate) forces: Forces,
-    pub(crate) contacts: Contacts,
-    pub(crate) launcher: Launcher,
-    pub(crate) rng: SplitMix64,
-    /// Events of the last tick.
-    pub(crate) events: Vec<Event>,
-    /// Force evaluations since tick 0.
-    pub(crate) force_evals: u64,
-    /// Velocity Verlet's carried end-of-step force, per body; empty for other integrators.
-    pub(crate) carry: Vec3s,
+    pub(crate) state: State,
+    pub(crate) params: Params,
+    pub(crate) scratch: Scratch,
+    /// Whether `state.carry` holds velocity Verlet's force from the last step.
     pub(crate) carry_valid: bool,
+    /// The divergence that stopped the run, if any.
     pub(crate) diverged: Option<Divergence>,
+    /// Worker threads (a runtime knob: the bits do not depend on it).
     pub(crate) threads: usize,
-    pub(crate) chunk_events: Vec<Vec<Event>>,
-    /// The state a batch of ticks started from ([`World::step_ticks`]); grown on first use.
-    pub(crate) batch_backup: BatchBackup,
 }
 
 impl World {
@@ -104,29 +175,22 @@ impl World {
     pub fn new(scene: &Scene) -> World {
         let mut world = World {
             scene: scene.clone(),
-            bodies: Bodies::default(),
-            next_id: 0,
-            tick: 0,
-            h: scene.timestep.as_nanos() as f64 * 1e-9,
-            integrator: scene.integrator,
-            substeps: scene.substeps,
-            forces: scene.forces,
-            contacts: Contacts {
-                ground: scene.ground,
-                walls: scene.walls.clone(),
-                targets: scene.targets.clone(),
-                detection: scene.detection,
+            state: State {
+                tick: 0,
+                next_id: 0,
+                rng: SplitMix64(scene.seed),
+                integrator: scene.integrator,
+                forces: scene.forces,
+                launcher: scene.launcher,
+                force_evals: 0,
+                bodies: Bodies::default(),
+                carry: Vec3s::default(),
             },
-            launcher: scene.launcher,
-            rng: SplitMix64(scene.seed),
-            events: Vec::new(),
-            force_evals: 0,
-            carry: Vec3s::default(),
+            params: Params::of_scene(scene),
+            scratch: Scratch::default(),
             carry_valid: false,
             diverged: None,
             threads: 1,
-            chunk_events: Vec::new(),
-            batch_backup: Default::default(),
         };
         world.populate();
         world
@@ -139,10 +203,10 @@ impl World {
         }
         if let Some(volley) = self.scene.volley {
             for _ in 0..volley.count {
-                let l = self.launcher;
-                let speed = l.speed + volley.speed_spread * self.rng.next_signed();
-                let el = l.elevation_deg + volley.angle_spread_deg * self.rng.next_signed();
-                let az = l.azimuth_deg + volley.angle_spread_deg * self.rng.next_signed();
+                let l = self.state.launcher;
+                let speed = l.speed + volley.speed_spread * self.state.rng.next_signed();
+                let el = l.elevation_deg + volley.angle_spread_deg * self.state.rng.next_signed();
+                let az = l.azimuth_deg + volley.angle_spread_deg * self.state.rng.next_signed();
                 self.spawn(&BodySpec {
                     mass: l.mass,
                     radius: l.radius,
@@ -155,21 +219,22 @@ impl World {
 
     /// Adds a body at the end of the id order and returns its id.
     pub fn spawn(&mut self, spec: &BodySpec) -> BodyId {
-        let id = BodyId(self.next_id);
-        self.next_id += 1;
-        self.bodies
+        let id = BodyId(self.state.next_id);
+        self.state.next_id += 1;
+        self.state
+            .bodies
             .push(id, spec.position, spec.velocity, spec.mass, spec.radius);
-        let i = self.bodies.len() - 1;
-        self.bodies.energy_cap[i] = self.energy_cap_of(i);
+        let i = self.state.bodies.len() - 1;
+        self.state.bodies.energy_cap[i] = self.energy_cap_of(i);
         self.carry_valid = false;
         id
     }
 
     /// Removes a body, keeping the others in order. Returns whether it existed.
     pub fn despawn(&mut self, id: BodyId) -> bool {
-        match self.bodies.index_of(id) {
+        match self.state.bodies.index_of(id) {
             Some(i) => {
-                self.bodies.remove(i);
+                self.state.bodies.remove(i);
                 self.carry_valid = false;
                 true
             }
@@ -179,7 +244,7 @@ impl World {
 
     /// Removes every body (ids keep counting).
     pub fn clear_bodies(&mut self) {
-        self.bodies.clear();
+        self.state.bodies.clear();
         self.carry_valid = false;
     }
 
@@ -189,106 +254,122 @@ impl World {
     /// start, so it does not vanish when the terms cancel (a circular orbit, a body at rest).
     pub(crate) fn energy_cap_of(&self, i: usize) -> f64 {
         use crate::forces::ForceModel;
-        let (s, m) = (self.bodies.state(i), self.bodies.mass[i]);
-        let v = self.bodies.velocity(i);
-        let energy = self.forces.energy(s.p, v, m);
+        let (s, m) = (self.state.bodies.state(i), self.state.bodies.mass[i]);
+        let v = self.state.bodies.velocity(i);
+        let energy = self.state.forces.energy(s.p, v, m);
         let scale = crate::forces::ForceKind::ALL
             .into_iter()
-            .filter(|k| self.forces.has(*k))
+            .filter(|k| self.state.forces.has(*k))
             .map(|k| {
-                let only = self.forces.filtered(|j| j == k);
+                let only = self.state.forces.filtered(|j| j == k);
                 (only.energy(s.p, v, m) - 0.5 * m * v.length_squared()).abs()
             })
             .sum::<f64>()
             + 0.5 * m * v.length_squared();
         let floor = f64::MIN_POSITIVE.max(1e-12 * m);
-        energy + (self.scene.guard.energy_factor - 1.0) * scale.max(floor)
+        energy + (self.params.guard.energy_factor - 1.0) * scale.max(floor)
     }
 
     /// Resets every body's energy bound to its current state (after commands add energy).
     pub(crate) fn rebase_energy_caps(&mut self) {
-        for i in 0..self.bodies.len() {
-            self.bodies.energy_cap[i] = self.energy_cap_of(i);
+        for i in 0..self.state.bodies.len() {
+            self.state.bodies.energy_cap[i] = self.energy_cap_of(i);
         }
     }
 
     /// The bodies.
+    #[inline]
     pub fn bodies(&self) -> &Bodies {
-        &self.bodies
+        &self.state.bodies
     }
 
     /// Ticks stepped since tick 0.
+    #[inline]
     pub fn tick(&self) -> u64 {
-        self.tick
+        self.state.tick
     }
 
     /// The physics step h (s), exactly the clock's timestep in nanoseconds.
+    #[inline]
     pub fn dt(&self) -> f64 {
-        self.h
+        self.params.h
     }
 
     /// Sim time (s) of the current tick: `start_time + tick * h`, one multiplication, no sum.
+    #[inline]
     pub fn time(&self) -> f64 {
-        self.time_of(self.tick)
+        self.time_of(self.state.tick)
     }
 
     /// Sim time (s) of tick `tick`.
+    #[inline]
     pub fn time_of(&self, tick: u64) -> f64 {
-        self.scene.start_time + tick as f64 * self.h
+        self.params.start_time + tick as f64 * self.params.h
     }
 
     /// Integrator in use.
+    #[inline]
     pub fn integrator(&self) -> Integrator {
-        self.integrator
+        self.state.integrator
     }
 
     /// Active force terms.
+    #[inline]
     pub fn forces(&self) -> &Forces {
-        &self.forces
+        &self.state.forces
     }
 
     /// Contacts of the scene.
+    #[inline]
     pub fn contacts(&self) -> &Contacts {
-        &self.contacts
+        &self.params.contacts
     }
 
     /// The scene the world was built from.
+    #[inline]
     pub fn scene(&self) -> &Scene {
         &self.scene
     }
 
     /// The launcher used by `Fire` commands.
+    #[inline]
     pub fn launcher(&self) -> &Launcher {
-        &self.launcher
+        &self.state.launcher
     }
 
     /// Events of the last tick, in body order.
+    #[inline]
     pub fn events(&self) -> &[Event] {
-        &self.events
+        &self.scratch.events
     }
 
     /// Force evaluations since tick 0 (every body, stage and contact search included).
+    #[inline]
     pub fn force_evals(&self) -> u64 {
-        self.force_evals
+        self.state.force_evals
     }
 
     /// Integrator steps per tick.
+    #[inline]
     pub fn substeps(&self) -> u32 {
-        self.substeps
+        self.params.substeps
     }
 
     /// The divergence that stopped the run, if any.
+    #[inline]
     pub fn divergence(&self) -> Option<Divergence> {
         self.diverged
     }
 
     /// The world's random generator (part of the hashed state).
+    #[inline]
     pub fn rng(&self) -> SplitMix64 {
-        self.rng
+        self.state.rng
     }
 
     /// Worker threads used for stepping (1 = on the caller's thread). Results are bit-identical
     /// for every thread count.
+    #[inline]
     pub fn threads(&self) -> usize {
         self.threads
     }
@@ -299,104 +380,68 @@ impl World {
     }
 
     /// Velocity of body `i` (m/s).
+    #[inline]
     pub fn velocity(&self, i: usize) -> DVec3 {
-        self.bodies.velocity(i)
+        self.state.bodies.velocity(i)
     }
 
     /// Net force (N) on body `i` from the active terms, at its current state.
     pub fn force_on(&self, i: usize) -> DVec3 {
         use crate::forces::ForceModel;
-        let m = self.bodies.mass[i];
-        self.forces.force(self.bodies.p.get(i), self.velocity(i), m)
+        let m = self.state.bodies.mass[i];
+        self.state
+            .forces
+            .force(self.state.bodies.p.get(i), self.velocity(i), m)
     }
 
     /// Mechanical energy (J) of body `i` under the active terms.
     pub fn energy_of(&self, i: usize) -> f64 {
         use crate::forces::ForceModel;
-        let m = self.bodies.mass[i];
-        self.forces
-            .energy(self.bodies.p.get(i), self.velocity(i), m)
+        let m = self.state.bodies.mass[i];
+        self.state
+            .forces
+            .energy(self.state.bodies.p.get(i), self.velocity(i), m)
     }
-}
-
-/// A world's whole mutable state at a tick boundary: what a replay keyframe stores.
-///
-/// Restoring it ([`World::restore`]) onto a world built from the same scene and stepping on gives
-/// the same bits as stepping on from the world it was taken from. What the scene fixes (timestep,
-/// substeps, contacts, declared forces, guard) is not in it; `inv_mass` is recomputed as
-/// `1 / mass`, exactly as at spawn. Events of the last tick and the thread count are not state.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Snapshot {
-    /// Ticks stepped since tick 0.
-    pub tick: u64,
-    /// Id the next spawned body gets.
-    pub next_id: u64,
-    /// The random generator.
-    pub rng: SplitMix64,
-    /// Integrator in use.
-    pub integrator: Integrator,
-    /// Active force terms: a subset of the scene's declared terms, with the declared values.
-    pub forces: Forces,
-    /// The launcher `Fire` uses.
-    pub launcher: Launcher,
-    /// Force evaluations since tick 0.
-    pub force_evals: u64,
-    /// Body ids, strictly increasing.
-    pub ids: Vec<BodyId>,
-    /// Positions (m).
-    pub p: Vec3s,
-    /// Momenta (kg m/s).
-    pub mv: Vec3s,
-    /// Masses (kg).
-    pub mass: Vec<f64>,
-    /// Radii (m).
-    pub radius: Vec<f64>,
-    /// The energy guard's bound per body (J).
-    pub energy_cap: Vec<f64>,
-    /// Velocity Verlet's carried force (N) per body when it is valid; empty otherwise.
-    pub carry: Vec3s,
 }
 
 impl World {
     /// The state now, for keyframes and seeking. See [`World::snapshot_into`] to reuse buffers.
-    pub fn snapshot(&self) -> Snapshot {
-        let mut s = Snapshot {
-            tick: 0,
-            next_id: 0,
-            rng: self.rng,
-            integrator: self.integrator,
-            forces: self.forces,
-            launcher: self.launcher,
-            force_evals: 0,
-            ids: Vec::new(),
-            p: Vec3s::default(),
-            mv: Vec3s::default(),
-            mass: Vec::new(),
-            radius: Vec::new(),
-            energy_cap: Vec::new(),
-            carry: Vec3s::default(),
-        };
-        self.snapshot_into(&mut s);
+    pub fn snapshot(&self) -> State {
+        let mut s = self.state.clone();
+        if !self.carries_force() {
+            s.carry = Vec3s::default();
+        }
         s
     }
 
     /// Like [`World::snapshot`], reusing `out`'s allocations (no allocation once they fit).
-    pub fn snapshot_into(&self, out: &mut Snapshot) {
-        let b = &self.bodies;
-        (out.tick, out.next_id, out.rng) = (self.tick, self.next_id, self.rng);
-        (out.integrator, out.forces) = (self.integrator, self.forces);
-        (out.launcher, out.force_evals) = (self.launcher, self.force_evals);
-        out.ids.clone_from(&b.id);
-        out.p.copy_from(&b.p);
-        out.mv.copy_from(&b.mv);
-        out.mass.clone_from(&b.mass);
-        out.radius.clone_from(&b.radius);
-        out.energy_cap.clone_from(&b.energy_cap);
+    pub fn snapshot_into(&self, out: &mut State) {
+        let (s, b, o) = (&self.state, &self.state.bodies, &mut out.bodies);
+        (out.tick, out.next_id, out.rng) = (s.tick, s.next_id, s.rng);
+        (out.integrator, out.forces) = (s.integrator, s.forces);
+        (out.launcher, out.force_evals) = (s.launcher, s.force_evals);
+        o.id.clone_from(&b.id);
+        for column in &COLUMNS {
+            column.get_mut(o).clone_from(column.get(b));
+        }
+        o.inv_mass.clone_from(&b.inv_mass);
         if self.carries_force() {
-            out.carry.copy_from(&self.carry);
+            out.carry.copy_from(&s.carry);
         } else {
             out.carry.resize(0);
         }
+    }
+
+    /// The state, as it is in the world (its carried-force buffer included, valid or not).
+    #[inline]
+    pub fn state(&self) -> &State {
+        &self.state
+    }
+
+    /// The parameters the world advances by.
+    #[inline]
+    pub fn params(&self) -> &Params {
+        &self.params
     }
 
     /// Whether the carried force is state: velocity Verlet in its carrying form (forces of
@@ -405,40 +450,39 @@ impl World {
     fn carries_force(&self) -> bool {
         use crate::forces::ForceModel;
         self.carry_valid
-            && self.carry.len() == self.bodies.len()
-            && self.integrator == Integrator::VelocityVerlet
-            && !self.forces.velocity_dependent()
+            && self.state.carry.len() == self.state.bodies.len()
+            && self.state.integrator == Integrator::VelocityVerlet
+            && !self.state.forces.velocity_dependent()
     }
 
     /// Puts `s` back, or says why it cannot belong to this world's scene (lengths that differ,
     /// ids not increasing or not below `next_id`, a mass not > 0, a radius not >= 0, a force
     /// term the scene does not declare, an integrator the forces refuse, a carried force
     /// without velocity Verlet). The divergence flag and the last tick's events are cleared.
-    pub fn restore(&mut self, s: &Snapshot) -> Result<(), RestoreError> {
+    pub fn restore(&mut self, s: &State) -> Result<(), RestoreError> {
         use crate::forces::ForceModel;
-        let n = s.ids.len();
-        let lengths = [s.p.len(), s.mv.len(), s.mass.len(), s.radius.len()];
-        if lengths.iter().chain([&s.energy_cap.len()]).any(|&l| l != n) {
+        let b = &s.bodies;
+        let n = b.id.len();
+        if !b.lengths_agree() {
             return Err(RestoreError::Lengths { ids: n });
         }
-        if !s.ids.windows(2).all(|w| w[0] < w[1])
-            || s.ids.last().is_some_and(|id| id.0 >= s.next_id)
+        if !b.id.windows(2).all(|w| w[0] < w[1]) || b.id.last().is_some_and(|id| id.0 >= s.next_id)
         {
             return Err(RestoreError::Ids);
         }
-        if let Some(i) = (0..n).find(|&i| !(s.mass[i].is_finite() && s.mass[i] > 0.0)) {
+        if let Some(i) = (0..n).find(|&i| !(b.mass[i].is_finite() && b.mass[i] > 0.0)) {
             return Err(RestoreError::Mass {
-                body: s.ids[i],
-                mass: s.mass[i],
+                body: b.id[i],
+                mass: b.mass[i],
             });
         }
-        if let Some(i) = (0..n).find(|&i| !(s.radius[i].is_finite() && s.radius[i] >= 0.0)) {
+        if let Some(i) = (0..n).find(|&i| !(b.radius[i].is_finite() && b.radius[i] >= 0.0)) {
             return Err(RestoreError::Radius {
-                body: s.ids[i],
-                radius: s.radius[i],
+                body: b.id[i],
+                radius: b.radius[i],
             });
         }
-        if s.forces != self.scene.forces.filtered(|k| s.forces.has(k)) {
+        if s.forces != self.params.declared.filtered(|k| s.forces.has(k)) {
             return Err(RestoreError::Forces);
         }
         crate::scene::check_integrator(s.integrator, &s.forces)
@@ -453,23 +497,25 @@ impl World {
         if !s.carry.is_empty() && (s.carry.len() != n || !verlet || s.forces.velocity_dependent()) {
             return Err(RestoreError::Carry);
         }
-        let b = &mut self.bodies;
-        b.id.clone_from(&s.ids);
-        b.p.copy_from(&s.p);
-        b.mv.copy_from(&s.mv);
-        b.mass.clone_from(&s.mass);
-        b.inv_mass.clear();
-        b.inv_mass.extend(s.mass.iter().map(|m| 1.0 / m));
-        b.radius.clone_from(&s.radius);
-        b.energy_cap.clone_from(&s.energy_cap);
-        self.carry.copy_from(&s.carry);
+        self.snapshot_from(s);
+        self.state.bodies.recompute_inv_mass();
         self.carry_valid = !s.carry.is_empty();
-        (self.tick, self.next_id, self.rng) = (s.tick, s.next_id, s.rng);
-        (self.integrator, self.forces) = (s.integrator, s.forces);
-        (self.launcher, self.force_evals) = (s.launcher, s.force_evals);
-        self.events.clear();
+        self.scratch.events.clear();
         self.diverged = None;
         Ok(())
+    }
+
+    /// Assigns `s` to the state, reusing the state's allocations.
+    fn snapshot_from(&mut self, s: &State) {
+        let (d, o) = (&mut self.state, &s.bodies);
+        (d.tick, d.next_id, d.rng) = (s.tick, s.next_id, s.rng);
+        (d.integrator, d.forces) = (s.integrator, s.forces);
+        (d.launcher, d.force_evals) = (s.launcher, s.force_evals);
+        d.bodies.id.clone_from(&o.id);
+        for column in &COLUMNS {
+            column.get_mut(&mut d.bodies).clone_from(column.get(o));
+        }
+        d.carry.copy_from(&s.carry);
     }
 }
 

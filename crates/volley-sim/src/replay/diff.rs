@@ -7,7 +7,7 @@
 
 use crate::forces::ForceKind;
 use crate::hash::canonical_bits;
-use crate::world::{BodyId, Snapshot};
+use crate::world::{BodyId, COLUMNS, Snapshot};
 
 /// One side of a differing field.
 #[derive(Clone, Debug, PartialEq)]
@@ -151,44 +151,33 @@ pub fn diff(recorded: &Snapshot, replayed: &Snapshot) -> Vec<FieldDiff> {
     out
 }
 
-const BODY_FIELDS: [&str; 12] = [
-    "p.x",
-    "p.y",
-    "p.z",
-    "mV.x",
-    "mV.y",
-    "mV.z",
-    "mass",
-    "radius",
-    "energy_cap",
-    "carry.x",
-    "carry.y",
-    "carry.z",
-];
+/// The carried force's components, compared after the body columns when both sides carry one.
+const CARRY_FIELDS: [&str; 3] = ["carry.x", "carry.y", "carry.z"];
 
-fn body_fields(s: &Snapshot, i: usize) -> [Option<f64>; 12] {
-    let c = |v: &[f64]| v.get(i).copied();
-    [
-        c(&s.p.x),
-        c(&s.p.y),
-        c(&s.p.z),
-        c(&s.mv.x),
-        c(&s.mv.y),
-        c(&s.mv.z),
-        c(&s.mass),
-        c(&s.radius),
-        c(&s.energy_cap),
-        c(&s.carry.x),
-        c(&s.carry.y),
-        c(&s.carry.z),
-    ]
+/// Every compared per-body field: the state's columns ([`COLUMNS`]), then the carried force.
+fn field_name(k: usize) -> &'static str {
+    COLUMNS
+        .get(k)
+        .map_or_else(|| CARRY_FIELDS[k - COLUMNS.len()], |c| c.name)
+}
+
+/// Body `i`'s value of every field [`field_name`] names (`None` where it has none: no carry).
+fn body_fields(s: &Snapshot, i: usize) -> impl Iterator<Item = Option<f64>> + '_ {
+    let c = move |v: &[f64]| v.get(i).copied();
+    let carry = &s.carry;
+    COLUMNS.iter().map(move |col| c(col.get(&s.bodies))).chain([
+        c(&carry.x),
+        c(&carry.y),
+        c(&carry.z),
+    ])
 }
 
 /// Bodies matched by id in one merge walk over the two sorted id lists.
 fn diff_bodies(r: &Snapshot, p: &Snapshot, out: &mut Vec<FieldDiff>) {
     let (mut i, mut j) = (0, 0);
-    while i < r.ids.len() || j < p.ids.len() {
-        let (a, b) = (r.ids.get(i), p.ids.get(j));
+    let (ri, pi) = (&r.bodies.id, &p.bodies.id);
+    while i < ri.len() || j < pi.len() {
+        let (a, b) = (ri.get(i), pi.get(j));
         let present = |id: BodyId, rec: bool| FieldDiff {
             body: Some(id),
             field: "body".into(),
@@ -206,16 +195,16 @@ fn diff_bodies(r: &Snapshot, p: &Snapshot, out: &mut Vec<FieldDiff>) {
         match (a, b) {
             (Some(&x), Some(&y)) if x == y => {
                 let (fa, fb) = (body_fields(r, i), body_fields(p, j));
-                for (k, (va, vb)) in fa.iter().zip(&fb).enumerate() {
+                for (k, (va, vb)) in fa.zip(fb).enumerate() {
                     // The carried force is compared only when both sides carry one.
                     if let (Some(va), Some(vb)) = (va, vb)
-                        && !same(*va, *vb)
+                        && !same(va, vb)
                     {
                         out.push(FieldDiff {
                             body: Some(x),
-                            field: BODY_FIELDS[k].into(),
-                            recorded: Value::F64(*va),
-                            replayed: Value::F64(*vb),
+                            field: field_name(k).into(),
+                            recorded: Value::F64(va),
+                            replayed: Value::F64(vb),
                         });
                     }
                 }

@@ -7,7 +7,7 @@ use glam::DVec3;
 use crate::forces::{ForceKind, Forces};
 use crate::integrate::Integrator;
 use crate::scene::Launcher;
-use crate::world::{BodyId, Snapshot, SplitMix64, Vec3s};
+use crate::world::{BodyId, COLUMNS, Snapshot, SplitMix64, Vec3s};
 
 use super::format::{
     CRC_LEN, DecodeError, FORMAT_VERSION, HEAD_LEN, Kind, Reader, Words, frame_head,
@@ -16,9 +16,10 @@ use super::format::{
 /// Bytes of a keyframe before its body arrays.
 pub const KEYFRAME_FIXED: usize = 3 * 8 + 3 + 8 * 8 + 8 + 8;
 
-/// Bytes per body in a keyframe: id and 9 floats, plus 3 with a carried force.
+/// Bytes per body in a keyframe: the id and one float per column ([`COLUMNS`]), plus 3 with a
+/// carried force.
 fn per_body(carry: bool) -> usize {
-    if carry { 13 * 8 } else { 10 * 8 }
+    (1 + COLUMNS.len() + if carry { 3 } else { 0 }) * 8
 }
 
 /// Payload length of a keyframe of `n` bodies, if it fits a frame.
@@ -35,7 +36,7 @@ pub fn keyframe_len(n: usize, carry: bool) -> Option<u32> {
 /// ids, p.x p.y p.z, mV.x mV.y mV.z, mass, radius, energy_cap (and carry x y z if has_carry).
 pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
     let carry = !s.carry.is_empty();
-    let n = s.ids.len();
+    let n = s.bodies.id.len();
     let len = keyframe_len(n, carry).ok_or_else(|| {
         io::Error::other(format!(
             "a keyframe of {n} bodies is too large for format v{FORMAT_VERSION}"
@@ -68,23 +69,14 @@ pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
     fixed.f64(l.azimuth_deg).f64(l.mass).f64(l.radius);
     fixed.u64(s.force_evals).u64(n as u64);
     w.put(fixed.bytes())?;
-    w.words(s.ids.iter().map(|id| id.0))?;
-    let arrays: [&[f64]; 12] = [
-        &s.p.x,
-        &s.p.y,
-        &s.p.z,
-        &s.mv.x,
-        &s.mv.y,
-        &s.mv.z,
-        &s.mass,
-        &s.radius,
-        &s.energy_cap,
-        &s.carry.x,
-        &s.carry.y,
-        &s.carry.z,
-    ];
-    for a in &arrays[..if carry { 12 } else { 9 }] {
-        w.words(a.iter().map(|x| x.to_bits()))?;
+    w.words(s.bodies.id.iter().map(|id| id.0))?;
+    for column in &COLUMNS {
+        w.words(column.get(&s.bodies).iter().map(|x| x.to_bits()))?;
+    }
+    if carry {
+        for a in [&s.carry.x, &s.carry.y, &s.carry.z] {
+            w.words(a.iter().map(|x| x.to_bits()))?;
+        }
     }
     w.finish()?;
     Ok((HEAD_LEN + len as usize + CRC_LEN) as u64)
@@ -139,18 +131,18 @@ pub fn decode_keyframe(
         })?;
     debug_assert_eq!(expected as usize, payload.len());
     let n = n as usize;
-    s.ids.clear();
-    s.ids.extend(r.take_u64s(n)?.map(BodyId));
-    if !s.ids.windows(2).all(|w| w[0] < w[1]) {
+    let b = &mut s.bodies;
+    b.id.clear();
+    b.id.extend(r.take_u64s(n)?.map(BodyId));
+    if !b.id.windows(2).all(|w| w[0] < w[1]) {
         return Err(DecodeError::IdsNotIncreasing);
     }
-    for v in [&mut s.p, &mut s.mv] {
-        read_vec3s(&mut r, n, v)?;
-    }
-    for a in [&mut s.mass, &mut s.radius, &mut s.energy_cap] {
+    for column in &COLUMNS {
+        let a = column.get_mut(b);
         a.clear();
         a.extend(r.take_u64s(n)?.map(f64::from_bits));
     }
+    b.recompute_inv_mass();
     if carry == 1 {
         read_vec3s(&mut r, n, &mut s.carry)?;
     } else {

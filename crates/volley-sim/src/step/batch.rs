@@ -23,69 +23,72 @@ impl World {
     /// state, the carried force and the counters as they were, if a body turned non-finite or
     /// passed its energy bound at a tick the guard checks.
     pub(super) fn integrate_batch(&mut self, ticks: u64) -> bool {
-        self.events.clear();
+        self.scratch.events.clear();
         let (chunks, carries) = self.prepare_chunks();
-        let n = self.bodies.len();
-        let t0 = self.time_of(self.tick);
-        let saved = &mut self.batch_backup;
+        let n = self.state.bodies.len();
+        let t0 = self.time_of(self.state.tick);
+        let saved = &mut self.scratch.batch_backup;
         saved.p.resize(n);
         saved.mv.resize(n);
         saved.carry.resize(if carries { n } else { 0 });
-        let h = self.h / f64::from(self.substeps);
+        let h = self.params.h / f64::from(self.params.substeps);
         let frame = StepFrame {
-            contacts: &self.contacts,
-            tick: self.tick + 1,
+            contacts: &self.params.contacts,
+            tick: self.state.tick + 1,
             t0,
             h,
             rest_speed: 0.0,
         };
-        let b = &mut self.bodies;
+        let b = &mut self.state.bodies;
         let fixed = Fixed {
             ids: &b.id,
             mass: &b.mass,
             inv_mass: &b.inv_mass,
             radius: &b.radius,
         };
-        let lanes = fixed.lanes(&mut b.p, &mut b.mv, &mut self.carry, carries);
+        let lanes = fixed.lanes(&mut b.p, &mut b.mv, &mut self.state.carry, carries);
         let saved_lanes = fixed.lanes(&mut saved.p, &mut saved.mv, &mut saved.carry, carries);
         // The guard's test, on the model `guard_energy` uses, so it trips exactly where it would.
-        let (caps, forces) = (&b.energy_cap[..], &self.forces);
+        let (caps, forces) = (&b.energy_cap[..], &self.state.forces);
         let field = forces.constant_field();
         let over_cap = move |l: &Lanes| match &field {
             Some(field) => lanes_over_cap(l, field, caps),
             None => lanes_over_cap(l, forces, caps),
         };
         let guard = Guard {
-            every: u64::from(self.scene.guard.every),
-            first_tick: self.tick + 1,
+            every: u64::from(self.params.guard.every),
+            first_tick: self.state.tick + 1,
             over_cap: &over_cap,
         };
         let out = visit(
-            self.integrator,
-            &self.forces,
+            self.state.integrator,
+            &self.state.forces,
             Batch {
                 lanes,
                 saved: saved_lanes,
-                events: &mut self.chunk_events[..chunks],
+                events: &mut self.scratch.chunk_events[..chunks],
                 carry_valid: self.carry_valid,
                 work: BatchWork {
                     frame: &frame,
                     ticks,
-                    substeps: self.substeps,
+                    substeps: self.params.substeps,
                     guard: &guard,
                 },
             },
         );
         if !out.ok {
-            self.bodies.p.copy_from(&self.batch_backup.p);
-            self.bodies.mv.copy_from(&self.batch_backup.mv);
+            self.state.bodies.p.copy_from(&self.scratch.batch_backup.p);
+            self.state
+                .bodies
+                .mv
+                .copy_from(&self.scratch.batch_backup.mv);
             if carries {
-                self.carry.copy_from(&self.batch_backup.carry);
+                self.state.carry.copy_from(&self.scratch.batch_backup.carry);
             }
             return false;
         }
         self.carry_valid = out.carried;
-        self.force_evals += out.evals;
+        self.state.force_evals += out.evals;
         true
     }
 }

@@ -13,17 +13,17 @@ impl World {
     /// its bound stops the run.
     #[inline]
     pub(super) fn guard_energy(&mut self) -> Result<(), Divergence> {
-        let every = u64::from(self.scene.guard.every);
-        if every == 0 || !self.tick.is_multiple_of(every) {
+        let every = u64::from(self.params.guard.every);
+        if every == 0 || !self.state.tick.is_multiple_of(every) {
             return Ok(());
         }
-        let found = match self.forces.constant_field() {
-            Some(field) => first_over_cap(&self.bodies, &field),
-            None => first_over_cap(&self.bodies, &self.forces),
+        let found = match self.state.forces.constant_field() {
+            Some(field) => first_over_cap(&self.state.bodies, &field),
+            None => first_over_cap(&self.state.bodies, &self.state.forces),
         };
         match found {
             Some((i, energy)) => {
-                let bound = self.bodies.energy_cap[i];
+                let bound = self.state.bodies.energy_cap[i];
                 Err(self.stop(i, DivergenceCause::EnergyGrowth { energy, bound }))
             }
             None => Ok(()),

@@ -16,36 +16,36 @@ impl World {
     #[inline]
     pub(super) fn integrate(&mut self, tick: u64, t0: f64, h: f64) -> Option<usize> {
         let (chunks, carries) = self.prepare_chunks();
-        let gravity = self.forces.gravity.map_or(0.0, DVec3::length);
+        let gravity = self.state.forces.gravity.map_or(0.0, DVec3::length);
         let frame = StepFrame {
-            contacts: &self.contacts,
+            contacts: &self.params.contacts,
             tick,
             t0,
             h,
             rest_speed: gravity * h,
         };
-        let b = &mut self.bodies;
+        let b = &mut self.state.bodies;
         let fixed = Fixed {
             ids: &b.id,
             mass: &b.mass,
             inv_mass: &b.inv_mass,
             radius: &b.radius,
         };
-        let lanes = fixed.lanes(&mut b.p, &mut b.mv, &mut self.carry, carries);
+        let lanes = fixed.lanes(&mut b.p, &mut b.mv, &mut self.state.carry, carries);
         let out = visit(
-            self.integrator,
-            &self.forces,
+            self.state.integrator,
+            &self.state.forces,
             Integrate {
                 lanes,
                 frame: &frame,
-                events: &mut self.chunk_events[..chunks],
+                events: &mut self.scratch.chunk_events[..chunks],
                 carry_valid: self.carry_valid,
             },
         );
         self.carry_valid = out.carried;
-        self.force_evals += out.evals;
-        for buffer in &mut self.chunk_events[..chunks] {
-            self.events.extend_from_slice(buffer);
+        self.state.force_evals += out.evals;
+        for buffer in &mut self.scratch.chunk_events[..chunks] {
+            self.scratch.events.extend_from_slice(buffer);
             buffer.clear();
         }
         out.first_non_finite

@@ -17,18 +17,18 @@ impl World {
     /// Returns the chunk count and whether the integrator carries a force.
     #[inline]
     pub(super) fn prepare_chunks(&mut self) -> (usize, bool) {
-        let n = self.bodies.len();
+        let n = self.state.bodies.len();
         let chunks = if self.threads > 1 && n >= 2 * PARALLEL_MIN_CHUNK {
             self.threads.min(n / PARALLEL_MIN_CHUNK)
         } else {
             1
         };
-        if self.chunk_events.len() < chunks {
-            self.chunk_events.resize_with(chunks, Vec::new);
+        if self.scratch.chunk_events.len() < chunks {
+            self.scratch.chunk_events.resize_with(chunks, Vec::new);
         }
-        let carries = self.integrator == crate::Integrator::VelocityVerlet;
-        if carries && self.carry.len() != n {
-            self.carry.resize(n);
+        let carries = self.state.integrator == crate::Integrator::VelocityVerlet;
+        if carries && self.state.carry.len() != n {
+            self.state.carry.resize(n);
             self.carry_valid = false;
         }
         (chunks, carries)

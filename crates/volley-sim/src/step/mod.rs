@@ -40,25 +40,25 @@ impl World {
         if let Some(d) = self.diverged {
             return Err(d);
         }
-        self.events.clear();
-        let next_tick = self.tick + 1;
-        let h_sub = self.h / f64::from(self.substeps);
-        for k in 0..self.substeps {
-            let t0 = self.time_of(self.tick) + f64::from(k) * h_sub;
+        self.scratch.events.clear();
+        let next_tick = self.state.tick + 1;
+        let h_sub = self.params.h / f64::from(self.params.substeps);
+        for k in 0..self.params.substeps {
+            let t0 = self.time_of(self.state.tick) + f64::from(k) * h_sub;
             if let Some(i) = self.integrate(next_tick, t0, h_sub) {
-                self.tick = next_tick;
+                self.state.tick = next_tick;
                 return Err(self.stop(i, DivergenceCause::NonFinite));
             }
         }
-        self.tick = next_tick;
+        self.state.tick = next_tick;
         self.guard_energy()
     }
 
     /// Stops the run at storage index `i` for `cause`; the world keeps this state.
     pub(super) fn stop(&mut self, i: usize, cause: DivergenceCause) -> Divergence {
         let d = Divergence {
-            tick: self.tick,
-            body: self.bodies.id[i],
+            tick: self.state.tick,
+            body: self.state.bodies.id[i],
             cause,
         };
         self.diverged = Some(d);
@@ -88,12 +88,12 @@ impl World {
         if let Some(d) = self.diverged {
             return Err(d);
         }
-        let batches = self.contacts.is_empty();
+        let batches = self.params.contacts.is_empty();
         let mut left = n;
         while left > 0 {
             let m = left.min(BATCH_MAX_TICKS);
             if batches && m >= 2 && self.integrate_batch(m) {
-                self.tick += m;
+                self.state.tick += m;
             } else {
                 for _ in 0..m {
                     self.step()?;

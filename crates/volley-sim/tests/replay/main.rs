@@ -7,6 +7,7 @@ mod support;
 #[path = "../replay_support/mod.rs"]
 mod replay_support;
 
+mod columns;
 mod replay;
 mod replay_fuzz;
 mod replay_hash_runs;

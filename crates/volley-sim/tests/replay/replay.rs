@@ -43,7 +43,7 @@ fn record_nudged(
 
 fn nudge_body_1(world: &mut World) {
     let mut s = world.snapshot();
-    s.p.x[1] = s.p.x[1].next_up();
+    s.bodies.p.x[1] = s.bodies.p.x[1].next_up();
     world.restore(&s).unwrap();
 }
 

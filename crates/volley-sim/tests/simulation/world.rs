@@ -168,17 +168,17 @@ fn restore_names_the_check_a_snapshot_fails() {
     type Spoil = fn(&mut volley_sim::replay::Snapshot);
     let cases: [(Spoil, RestoreError, &str); 8] = [
         (
-            |s| s.mass.push(1.0),
+            |s| s.bodies.mass.push(1.0),
             RestoreError::Lengths { ids: 2 },
             "body arrays of different lengths (2 ids)",
         ),
         (
-            |s| s.ids.swap(0, 1),
+            |s| s.bodies.id.swap(0, 1),
             RestoreError::Ids,
             "body ids must increase and stay below next_id",
         ),
         (
-            |s| s.mass[1] = 0.0,
+            |s| s.bodies.mass[1] = 0.0,
             RestoreError::Mass {
                 body: BodyId(1),
                 mass: 0.0,
@@ -186,7 +186,7 @@ fn restore_names_the_check_a_snapshot_fails() {
             "body 1: mass must be > 0, got 0",
         ),
         (
-            |s| s.radius[0] = -1.0,
+            |s| s.bodies.radius[0] = -1.0,
             RestoreError::Radius {
                 body: BodyId(0),
                 radius: -1.0,
