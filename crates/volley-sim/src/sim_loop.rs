@@ -207,6 +207,27 @@ impl SimLoop {
     }
 
     /// One frame: advance the clock by `delta` and run the ticks it grants.
+    ///
+    /// A game calls this once per rendered frame with the frame's real duration; the clock keeps
+    /// the remainder, so a 144 Hz display over a 60 Hz simulation runs 0 or 1 tick a frame and
+    /// sim time stays `start_time + tick * dt`:
+    ///
+    /// ```
+    /// use std::time::Duration;
+    /// use volley_sim::{Command, SimLoop, World, scene};
+    ///
+    /// let scene = scene::parse(
+    ///     "Scene(dt: 0.016666667, integrator: SemiImplicitEuler, forces: [Gravity((0, 0, -9.81))])",
+    ///     "game.ron", "game").unwrap();
+    /// let mut sim = SimLoop::new(World::new(&scene));
+    /// sim.push(Command::Fire); // applied at the next tick boundary
+    /// let mut ticks = 0;
+    /// for _ in 0..144 {
+    ///     ticks += sim.frame(Duration::from_nanos(6_944_444), &mut ()).unwrap().steps;
+    /// }
+    /// assert_eq!((ticks, sim.world.tick()), (59, 59)); // one second, less the carried remainder
+    /// assert_eq!(sim.world.bodies().len(), 1);
+    /// ```
     pub fn frame(
         &mut self,
         delta: Duration,

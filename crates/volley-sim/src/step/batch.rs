@@ -188,7 +188,7 @@ pub(super) fn batch_chunk<S: Scheme>(
         saved.sub(start, end).copy_state(&block);
         for tick in guard.first_tick..guard.first_tick + work.ticks {
             for _ in 0..work.substeps {
-                let o = run::<S, false>(scheme, block.sub(0, end - start), work.frame, events);
+                let o = run::<S, false>(scheme, &mut block.sub(0, end - start), work.frame, events);
                 evals += o.evals;
                 ok &= o.first_non_finite.is_none();
             }

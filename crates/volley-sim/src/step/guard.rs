@@ -11,7 +11,6 @@ use super::lanes::Lanes;
 impl World {
     /// The energy guard stage: every `guard.every` ticks, the first body whose energy passed
     /// its bound stops the run.
-    #[inline]
     pub(super) fn guard_energy(&mut self) -> Result<(), Divergence> {
         let every = u64::from(self.params.guard.every);
         if every == 0 || !self.state.tick.is_multiple_of(every) {

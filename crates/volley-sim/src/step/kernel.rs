@@ -133,7 +133,7 @@ pub(super) fn finite(v: DVec3) -> bool {
 #[inline]
 pub(super) fn run<S: Scheme, const CONTACTS: bool>(
     scheme: &S,
-    l: Lanes,
+    l: &mut Lanes,
     frame: &StepFrame,
     events: &mut Vec<Event>,
 ) -> KernelOut {
@@ -166,7 +166,7 @@ pub(super) fn run<S: Scheme, const CONTACTS: bool>(
 #[inline(never)]
 pub(super) fn run_baseline<S: Scheme, const CONTACTS: bool>(
     scheme: &S,
-    l: Lanes,
+    l: &mut Lanes,
     frame: &StepFrame,
     events: &mut Vec<Event>,
 ) -> KernelOut {
@@ -178,7 +178,7 @@ pub(super) fn run_baseline<S: Scheme, const CONTACTS: bool>(
 #[target_feature(enable = "avx2")]
 pub(super) fn run_avx2<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
     scheme: &S,
-    l: Lanes,
+    l: &mut Lanes,
     frame: &StepFrame,
     events: &mut Vec<Event>,
 ) -> KernelOut {
@@ -190,7 +190,7 @@ pub(super) fn run_avx2<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
 #[target_feature(enable = "avx512f")]
 pub(super) fn run_avx512<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
     scheme: &S,
-    l: Lanes,
+    l: &mut Lanes,
     frame: &StepFrame,
     events: &mut Vec<Event>,
 ) -> KernelOut {
@@ -208,7 +208,7 @@ pub const STREAMING_MIN_BODIES: usize = 1 << 18;
 #[inline(always)]
 pub(super) fn run_lanes<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
     scheme: &S,
-    l: Lanes,
+    l: &mut Lanes,
     frame: &StepFrame,
     events: &mut Vec<Event>,
 ) -> KernelOut {

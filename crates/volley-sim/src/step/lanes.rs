@@ -15,7 +15,6 @@ impl World {
     /// The number of parallel chunks for this world's size and thread count, with an event
     /// buffer for each; sizes Verlet's carried force (invalidating it when the count changed).
     /// Returns the chunk count and whether the integrator carries a force.
-    #[inline]
     pub(super) fn prepare_chunks(&mut self) -> (usize, bool) {
         let n = self.state.bodies.len();
         let chunks = if self.threads > 1 && n >= 2 * PARALLEL_MIN_CHUNK {
@@ -208,12 +207,12 @@ impl<'a> Lanes<'a> {
 /// Splits the bodies into `events.len()` chunks and runs them in parallel, combining in order.
 pub(super) fn split_run<S: Scheme, const CONTACTS: bool>(
     scheme: &S,
-    lanes: Lanes,
+    mut lanes: Lanes,
     frame: &StepFrame,
     events: &mut [Vec<Event>],
 ) -> KernelOut {
     if events.len() <= 1 {
-        return run::<S, CONTACTS>(scheme, lanes, frame, &mut events[0]);
+        return run::<S, CONTACTS>(scheme, &mut lanes, frame, &mut events[0]);
     }
     let half = events.len() / 2;
     let mid = lanes.len() * half / events.len();
