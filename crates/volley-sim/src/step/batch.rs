@@ -115,7 +115,6 @@ pub(super) struct BatchOut {
 
 impl SchemeVisitor for Batch<'_, '_> {
     type Out = BatchOut;
-    #[inline(always)]
     fn visit<S: Scheme>(self, scheme: S) -> BatchOut {
         let Batch {
             mut lanes,

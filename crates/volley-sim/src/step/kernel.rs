@@ -82,7 +82,6 @@ pub(super) struct Integrate<'a, 'f> {
 
 impl SchemeVisitor for Integrate<'_, '_> {
     type Out = KernelOut;
-    #[inline(always)]
     fn visit<S: Scheme>(self, scheme: S) -> KernelOut {
         let Integrate {
             mut lanes,
