@@ -290,7 +290,7 @@ impl World {
                 l.position = position.unwrap_or(l.position);
             }
             Command::SetForce { kind, enabled } => {
-                let declared = self.scene.forces;
+                let declared = self.params.declared;
                 if !declared.has(kind) {
                     return Err(CommandError::UndeclaredForce {
                         kind,
@@ -321,7 +321,7 @@ impl World {
             }
             Command::Reset => {
                 self.clear_bodies();
-                self.state.forces = self.scene.forces;
+                self.state.forces = self.params.declared;
                 self.state.launcher = self.scene.launcher;
                 self.state.rng = crate::world::SplitMix64(self.scene.seed);
                 self.populate();

@@ -85,6 +85,29 @@ pub struct State {
     pub carry: Vec3s,
 }
 
+impl State {
+    /// Makes this state a copy of `src`, reusing its allocations (none once they fit): every
+    /// field and column, `1 / mass` recomputed as at spawn, and the carried force only if
+    /// `carry` (otherwise it is left empty).
+    fn assign_from(&mut self, src: &State, carry: bool) {
+        (self.tick, self.next_id, self.rng) = (src.tick, src.next_id, src.rng);
+        (self.integrator, self.forces) = (src.integrator, src.forces);
+        (self.launcher, self.force_evals) = (src.launcher, src.force_evals);
+        self.bodies.id.clone_from(&src.bodies.id);
+        for column in &COLUMNS {
+            column
+                .get_mut(&mut self.bodies)
+                .clone_from(column.get(&src.bodies));
+        }
+        self.bodies.recompute_inv_mass();
+        if carry {
+            self.carry.copy_from(&src.carry);
+        } else {
+            self.carry.resize(0);
+        }
+    }
+}
+
 /// A world's [`State`] under the name replays use for it.
 pub type Snapshot = State;
 
@@ -416,20 +439,7 @@ impl World {
 
     /// Like [`World::snapshot`], reusing `out`'s allocations (no allocation once they fit).
     pub fn snapshot_into(&self, out: &mut State) {
-        let (s, b, o) = (&self.state, &self.state.bodies, &mut out.bodies);
-        (out.tick, out.next_id, out.rng) = (s.tick, s.next_id, s.rng);
-        (out.integrator, out.forces) = (s.integrator, s.forces);
-        (out.launcher, out.force_evals) = (s.launcher, s.force_evals);
-        o.id.clone_from(&b.id);
-        for column in &COLUMNS {
-            column.get_mut(o).clone_from(column.get(b));
-        }
-        o.inv_mass.clone_from(&b.inv_mass);
-        if self.carries_force() {
-            out.carry.copy_from(&s.carry);
-        } else {
-            out.carry.resize(0);
-        }
+        out.assign_from(&self.state, self.carries_force());
     }
 
     /// The state, as it is in the world (its carried-force buffer included, valid or not).
@@ -497,25 +507,11 @@ impl World {
         if !s.carry.is_empty() && (s.carry.len() != n || !verlet || s.forces.velocity_dependent()) {
             return Err(RestoreError::Carry);
         }
-        self.snapshot_from(s);
-        self.state.bodies.recompute_inv_mass();
+        self.state.assign_from(s, true);
         self.carry_valid = !s.carry.is_empty();
         self.scratch.events.clear();
         self.diverged = None;
         Ok(())
-    }
-
-    /// Assigns `s` to the state, reusing the state's allocations.
-    fn snapshot_from(&mut self, s: &State) {
-        let (d, o) = (&mut self.state, &s.bodies);
-        (d.tick, d.next_id, d.rng) = (s.tick, s.next_id, s.rng);
-        (d.integrator, d.forces) = (s.integrator, s.forces);
-        (d.launcher, d.force_evals) = (s.launcher, s.force_evals);
-        d.bodies.id.clone_from(&o.id);
-        for column in &COLUMNS {
-            column.get_mut(&mut d.bodies).clone_from(column.get(o));
-        }
-        d.carry.copy_from(&s.carry);
     }
 }
 
