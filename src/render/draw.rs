@@ -135,9 +135,10 @@ impl DrawList {
 
     fn scene_parts(&mut self, world: &World, options: &DrawOptions) {
         let o = options.origin;
+        let since_start = world.tick() as f64 * world.dt();
         for t in &world.contacts().targets {
             self.translucent.push(SphereInstance {
-                center: rel(t.center, o),
+                center: rel(t.center_at(since_start), o),
                 radius: t.radius as f32,
                 colour: TARGET,
             });

@@ -8,6 +8,7 @@ mod support;
 #[path = "../../crates/volley-sim/tests/replay_support/mod.rs"]
 mod replay_support;
 
+mod aim;
 mod bad_input;
 mod batch;
 mod determinism;

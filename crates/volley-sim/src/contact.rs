@@ -49,10 +49,26 @@ fn elastic() -> f64 {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Target {
-    /// Centre (m).
+    /// Centre (m) at tick 0.
     pub center: DVec3,
     /// Radius (m); a body hits when its centre comes within this plus its own radius.
     pub radius: f64,
+    /// Constant velocity (m/s); zero (the default) for a target that stays put.
+    #[serde(default)]
+    pub velocity: DVec3,
+}
+
+impl Target {
+    /// The centre `since_start` seconds after tick 0: `center + velocity * since_start`. A
+    /// target at rest returns `center` itself (no `+ 0`, which would turn a `-0.0` into `0.0`).
+    #[inline]
+    pub fn center_at(&self, since_start: f64) -> DVec3 {
+        if self.velocity == DVec3::ZERO {
+            self.center
+        } else {
+            self.center + since_start * self.velocity
+        }
+    }
 }
 
 /// When contacts are detected.
@@ -149,6 +165,9 @@ pub(crate) struct StepFrame<'a> {
     pub tick: u64,
     /// Sim time at the start of the step (s).
     pub t0: f64,
+    /// The same instant as time since tick 0 (s): `tick * H + k * h` for substep `k`, where
+    /// moving targets are.
+    pub since_start: f64,
     /// Step length (s).
     pub h: f64,
     /// Normal speed below which a bounce ends at rest (m/s): gravity's speed gain in one step.
@@ -217,12 +236,13 @@ fn planes(contacts: &Contacts, p: DVec3, r: f64) -> impl Iterator<Item = Plane> 
 /// Whether a body moving from `s0` to `s1` might need the contact stage at all.
 #[inline]
 pub(crate) fn needs_resolution(
-    contacts: &Contacts,
+    frame: &StepFrame,
     r: f64,
     inv_m: f64,
     s0: &BodyState,
     s1: &BodyState,
 ) -> bool {
+    let contacts = frame.contacts;
     if let Some(g) = contacts.ground
         && s1.p.z - g.height - r < 0.0
     {
@@ -236,10 +256,17 @@ pub(crate) fn needs_resolution(
         }
     }
     for t in &contacts.targets {
-        let (g0, g1) = (approach_rate(t, s0, inv_m), approach_rate(t, s1, inv_m));
+        let (c0, c1) = (
+            t.center_at(frame.since_start),
+            t.center_at(frame.since_start + frame.h),
+        );
+        let (g0, g1) = (
+            approach_rate(t, c0, s0, inv_m),
+            approach_rate(t, c1, s1, inv_m),
+        );
         let reach2 = (t.radius + r) * (t.radius + r);
-        let entered = (s0.p - t.center).length_squared() > reach2
-            && (s1.p - t.center).length_squared() <= reach2;
+        let entered =
+            (s0.p - c0).length_squared() > reach2 && (s1.p - c1).length_squared() <= reach2;
         if (g0 < 0.0 && g1 >= 0.0) || entered {
             return true;
         }
@@ -247,10 +274,11 @@ pub(crate) fn needs_resolution(
     false
 }
 
-/// `(p - c) . V`: negative while the body approaches the target's centre.
+/// `(p - c) . (V - u)` for a target centred at `c` moving at `u`: negative while the body
+/// approaches the target's centre.
 #[inline]
-fn approach_rate(t: &Target, s: &BodyState, inv_m: f64) -> f64 {
-    (s.p - t.center).dot(s.mv * inv_m)
+fn approach_rate(t: &Target, c: DVec3, s: &BodyState, inv_m: f64) -> f64 {
+    (s.p - c).dot(s.mv * inv_m - t.velocity)
 }
 
 /// Resolves contacts for one body over one step that went from `s0` (carried force `c0`) to
@@ -450,20 +478,16 @@ fn targets_on_segment<S: Scheme>(
     evals: &mut u64,
 ) {
     let path = |tau: f64| scheme.step(a, body.w, tau, ca).0;
+    let since = frame.since_start + elapsed;
     for (i, target) in frame.contacts.targets.iter().enumerate() {
         let reach = target.radius + body.r;
-        let gap = |s: &BodyState| (s.p - target.center).length() - reach;
-        let (g0, g1) = (
-            approach_rate(target, &a, body.w.inv),
-            approach_rate(target, &b, body.w.inv),
-        );
+        let at = |tau: f64| target.center_at(since + tau);
+        let gap = |s: &BodyState, tau: f64| (s.p - at(tau)).length() - reach;
+        let rate = |s: &BodyState, tau: f64| approach_rate(target, at(tau), s, body.w.inv);
+        let (g0, g1) = (rate(&a, 0.0), rate(&b, duration));
         // Where along the segment the distance is smallest.
         let (tau_min, closest) = if g0 < 0.0 && g1 >= 0.0 {
-            let (tau, n) = bracketed_root(
-                |tau| approach_rate(target, &path(tau), body.w.inv),
-                (0.0, g0),
-                (duration, g1),
-            );
+            let (tau, n) = bracketed_root(|tau| rate(&path(tau), tau), (0.0, g0), (duration, g1));
             *evals += (n + 1) * S::EVALS;
             (Some(tau), path(tau))
         } else if g1 < 0.0 {
@@ -471,11 +495,13 @@ fn targets_on_segment<S: Scheme>(
         } else {
             (None, a)
         };
-        let gap_min = gap(&closest);
-        let gap0 = gap(&a);
+        let tau_closest = tau_min.unwrap_or(if g1 < 0.0 { duration } else { 0.0 });
+        let gap_min = gap(&closest, tau_closest);
+        let gap0 = gap(&a, 0.0);
         if gap0 > 0.0 && gap_min <= 0.0 {
             let end = tau_min.unwrap_or(duration);
-            let (tau_hit, n) = bracketed_root(|tau| gap(&path(tau)), (0.0, gap0), (end, gap_min));
+            let (tau_hit, n) =
+                bracketed_root(|tau| gap(&path(tau), tau), (0.0, gap0), (end, gap_min));
             *evals += n * S::EVALS;
             out.push(Event {
                 tick: frame.tick,
@@ -545,8 +571,8 @@ fn resolve_discrete<S: Scheme>(
     for (i, target) in frame.contacts.targets.iter().enumerate() {
         let reach = target.radius + body.r;
         let (d0, d1) = (
-            (s0.p - target.center).length(),
-            (s.p - target.center).length(),
+            (s0.p - target.center_at(frame.since_start)).length(),
+            (s.p - target.center_at(frame.since_start + frame.h)).length(),
         );
         if d1 <= reach && d0 > reach {
             out.push(Event {

@@ -569,6 +569,7 @@ fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Inva
         .collect::<Result<Vec<_>, _>>()?;
     for (i, t) in raw.targets.iter().enumerate() {
         finite3(&format!("targets[{i}].center"), t.center)?;
+        finite3(&format!("targets[{i}].velocity"), t.velocity)?;
         positive(&format!("targets[{i}].radius"), t.radius)?;
     }
     let bodies = raw

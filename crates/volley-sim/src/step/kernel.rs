@@ -14,13 +14,20 @@ use super::lanes::{Fixed, Lanes, split_run};
 impl World {
     /// Integrate + contacts over all bodies; returns the first body whose state is not finite.
     #[inline]
-    pub(super) fn integrate(&mut self, tick: u64, t0: f64, h: f64) -> Option<usize> {
+    /// `t0` is the step's start as sim time and as time since tick 0.
+    pub(super) fn integrate(
+        &mut self,
+        tick: u64,
+        (t0, since): (f64, f64),
+        h: f64,
+    ) -> Option<usize> {
         let (chunks, carries) = self.prepare_chunks();
         let gravity = self.state.forces.gravity.map_or(0.0, DVec3::length);
         let frame = StepFrame {
             contacts: &self.params.contacts,
             tick,
             t0,
+            since_start: since,
             h,
             rest_speed: gravity * h,
         };
@@ -242,7 +249,7 @@ pub(super) fn run_lanes<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
             DVec3::ZERO
         };
         let (mut s1, mut c1) = scheme.step(s0, w, h, c0);
-        if CONTACTS && contact::needs_resolution(frame.contacts, l.radius[i], w.inv, &s0, &s1) {
+        if CONTACTS && contact::needs_resolution(frame, l.radius[i], w.inv, &s0, &s1) {
             let body = Particle {
                 id: l.ids[i],
                 w,

@@ -45,7 +45,8 @@ impl World {
         let h_sub = self.params.h / f64::from(self.params.substeps);
         for k in 0..self.params.substeps {
             let t0 = self.time_of(self.state.tick) + f64::from(k) * h_sub;
-            if let Some(i) = self.integrate(next_tick, t0, h_sub) {
+            let since = self.state.tick as f64 * self.params.h + f64::from(k) * h_sub;
+            if let Some(i) = self.integrate(next_tick, (t0, since), h_sub) {
                 self.state.tick = next_tick;
                 return Err(self.stop(i, DivergenceCause::NonFinite));
             }

@@ -16,7 +16,7 @@ const LAYERS: &[&[&str]] = &[
     &["step"],
     &["command", "hash", "clock"],
     &["sim_loop"],
-    &["table", "replay", "study", "stability"],
+    &["table", "replay", "study", "stability", "firing"],
 ];
 
 fn layer_of(module: &str) -> Option<usize> {

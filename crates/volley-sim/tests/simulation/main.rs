@@ -9,6 +9,7 @@ mod clock;
 mod convergence;
 mod events;
 mod exact;
+mod firing;
 mod hard_cases;
 mod layers;
 mod parallel;
