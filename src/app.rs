@@ -17,6 +17,7 @@ mod control;
 mod frame;
 pub mod input;
 pub mod panel;
+pub mod script;
 pub mod session;
 pub mod surface;
 pub mod watch;
@@ -72,6 +73,8 @@ pub struct WindowOptions {
     /// Put the window through a resize, a minimise and restore, and a lost surface, a few
     /// frames apart (`--surface-drill`, for the smoke tests).
     pub surface_drill: bool,
+    /// An input script played from the first frame (`--script FILE`, [`script`]).
+    pub script: Vec<script::Step>,
 }
 
 /// Why the window could not run.
@@ -121,6 +124,68 @@ pub struct RunSummary {
     pub recordings: Vec<session::recording::FinishedRecording>,
     /// Where the last replay stood when it ended or the window closed.
     pub replay: Option<session::replaying::ReplayVerdict>,
+    /// Each lane as the window closed: for tests and scripted demos.
+    pub lanes: Vec<LaneReport>,
+}
+
+/// A lane as the window closed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LaneReport {
+    /// The lane's integrator.
+    pub integrator: Integrator,
+    /// Its tick.
+    pub tick: u64,
+    /// Its bodies.
+    pub bodies: usize,
+    /// Each body's closest pass by each target.
+    pub passes: Vec<crate::render::history::Pass>,
+    /// Its last aim.
+    pub aim: Option<session::AimNote>,
+}
+
+impl std::fmt::Display for LaneReport {
+    /// `lane NAME: tick N, B bodies`, then a line per pass and the aim.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "lane {}: tick {}, {} bodies",
+            self.integrator.name(),
+            self.tick,
+            self.bodies
+        )?;
+        if let Some(note) = &self.aim {
+            match &note.outcome {
+                Ok(s) => write!(
+                    f,
+                    "\n  aim at target {} from tick {}: {} elevation {:.4} deg azimuth {:.4} deg \
+                     speed {:.4} m/s{}",
+                    note.target,
+                    note.tick,
+                    s.kind.label(),
+                    s.elevation_deg,
+                    s.azimuth_deg,
+                    s.speed,
+                    s.textbook.map_or(String::new(), |t| format!(
+                        ", textbook misses by {:.4} m",
+                        t.miss
+                    ))
+                )?,
+                Err(why) => write!(f, "\n  aim at target {}: {why}", note.target)?,
+            }
+        }
+        for p in &self.passes {
+            write!(
+                f,
+                "\n  body {} passed target {} at {:e} m (t = {:.4} s){}",
+                p.body,
+                p.target,
+                p.distance,
+                p.time,
+                if p.hit { ", hit" } else { "" }
+            )?;
+        }
+        Ok(())
+    }
 }
 
 /// Opens the window on `scene` (read from `path`) and runs until it is closed.
@@ -151,6 +216,18 @@ pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummar
         work_ms: median(&mut app.timings.iter().map(|t| t.1).collect()),
         recordings: app.session.recordings().to_vec(),
         replay: app.session.replay_verdict(),
+        lanes: app
+            .session
+            .lanes()
+            .iter()
+            .map(|l| LaneReport {
+                integrator: l.sim.world.integrator(),
+                tick: l.sim.world.tick(),
+                bodies: l.sim.world.bodies().len(),
+                passes: l.history.passes.all().to_vec(),
+                aim: l.aim.clone(),
+            })
+            .collect(),
     })
 }
 
@@ -203,6 +280,8 @@ struct App {
     timings: Vec<(f64, f64)>,
     /// Steps of `--surface-drill` done.
     drill_step: u8,
+    /// The input script being played.
+    script: script::Player,
     quit: bool,
     outcome: Result<(), AppError>,
 }
@@ -212,6 +291,7 @@ impl App {
         session.set_paused(options.paused);
         session.set_time_scale(options.time_scale);
         let panel = PanelState::new(&session, options.scenes.clone());
+        let script = script::Player::new(options.script.clone());
         let source: Box<dyn FrameSource> = match options.frame_rate {
             Some(hz) => Box::new(VirtualClock::display(hz)),
             None => Box::new(RealClock::new()),
@@ -238,6 +318,7 @@ impl App {
             screenshot: None,
             last_frame: Instant::now(),
             timings: Vec::new(),
+            script,
             drill_step: 0,
             quit: false,
             outcome: Ok(()),
@@ -358,6 +439,9 @@ impl App {
 
     fn redraw(&mut self) {
         let start = Instant::now();
+        for action in self.script.due() {
+            self.apply(action);
+        }
         let delta = self.source.next_delta();
         self.check_reload(start);
         self.session.frame(delta);

@@ -44,6 +44,7 @@ impl App {
                 });
             }
             Action::Fire => s.push(Command::Fire),
+            Action::Aim(arc) => s.aim(arc, self.panel.aim_target),
             Action::Reset => s.reset(),
             Action::ToggleRecord => s.toggle_recording(),
             Action::Replay(path) => self.replay(&path),

@@ -44,6 +44,8 @@ pub enum Action {
     NudgeLaunch(f64, f64, f64),
     /// Fire a projectile from the launcher.
     Fire,
+    /// Every lane aims at the selected target on this arc (its own solve) and fires.
+    Aim(crate::exact::Arc),
     /// Put the bodies back: a `Reset` command (in compare mode after a divergence, a restart
     /// at tick 0).
     Reset,
@@ -83,10 +85,14 @@ pub const DEFAULT_COMPARE: [Integrator; 4] = [
 ];
 
 /// Every keyboard shortcut, as (keys, what they do): listed in the panel and the README.
-pub const SHORTCUTS: [(&str, &str); 17] = [
+pub const SHORTCUTS: [(&str, &str); 18] = [
     ("Space", "pause / resume"),
     ("N or .", "single step (pauses)"),
     ("F", "fire"),
+    (
+        "A / Shift+A",
+        "aim at the target on the high / low arc and fire (each lane solves its own shot)",
+    ),
     (
         "R",
         "reset (a Reset command, also after a divergence; compare mode then restarts at tick 0)",
@@ -136,7 +142,9 @@ pub fn action_for_key(key: &Key) -> Option<Action> {
             NamedKey::Escape => A::Quit,
             _ => return None,
         },
+        Key::Character(text) if text.as_str() == "A" => A::Aim(crate::exact::Arc::Low),
         Key::Character(text) => match text.to_lowercase().as_str() {
+            "a" => A::Aim(crate::exact::Arc::High),
             "n" | "." => A::Step,
             "f" => A::Fire,
             "r" => A::Reset,

@@ -38,6 +38,8 @@ pub struct PanelState {
     pub substeps: u32,
     /// The integrators ticked for compare mode.
     pub compare_pick: Vec<Integrator>,
+    /// The target the aim buttons aim at (index in the scene).
+    pub aim_target: usize,
     /// A note on the scene file: watched, reloaded, or why a reload failed.
     pub file_note: Option<(String, bool)>,
     /// Bundled scenes, (name, path).
@@ -54,6 +56,7 @@ impl PanelState {
             dt_ms: 0.0,
             substeps: 1,
             compare_pick: DEFAULT_COMPARE.to_vec(),
+            aim_target: 0,
             file_note: None,
             scenes,
         };
@@ -311,6 +314,81 @@ fn simulation(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut 
             out.push(Action::Reset);
         }
     });
+    aim(ui, state, session, out);
+}
+
+/// The aim buttons and, per lane, what its own solve fired and how the textbook would miss.
+fn aim(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<Action>) {
+    let targets = session.world().contacts().targets.len();
+    if targets == 0 {
+        return;
+    }
+    state.aim_target = state.aim_target.min(targets - 1);
+    ui.horizontal(|ui| {
+        if targets > 1 {
+            egui::ComboBox::from_id_salt("aim target")
+                .selected_text(format!("target {}", state.aim_target))
+                .show_ui(ui, |ui| {
+                    for k in 0..targets {
+                        ui.selectable_value(&mut state.aim_target, k, format!("target {k}"));
+                    }
+                });
+        }
+        if ui.button("Aim: high arc").clicked() {
+            out.push(Action::Aim(crate::exact::Arc::High));
+        }
+        if ui.button("Aim: low arc").clicked() {
+            out.push(Action::Aim(crate::exact::Arc::Low));
+        }
+    });
+    for lane in session.lanes() {
+        let Some(note) = &lane.aim else {
+            continue;
+        };
+        let name = lane.sim.world.integrator().name();
+        let (first, second) = match &note.outcome {
+            Ok(shot) => {
+                let mut first = format!(
+                    "{name}: {} {:.2} deg, {:.2} m/s, {:.3} s",
+                    shot.kind.label(),
+                    shot.elevation_deg,
+                    shot.speed,
+                    shot.flight_time
+                );
+                if let Some(tb) = shot.textbook {
+                    let (e, _) = crate::firing::angles_of(tb.velocity);
+                    first += &format!("; textbook {e:.2} deg misses by {:.3} m", tb.miss);
+                }
+                let second = match aimed_pass(lane, note, shot) {
+                    Some(p) => format!("  passed at {:.1e} m, t = {:.3} s", p.distance, p.time),
+                    None => "  in flight".to_string(),
+                };
+                (first, second)
+            }
+            Err(why) => (format!("{name}: no shot: {why}"), String::new()),
+        };
+        ui.colored_label(colour(lane.colour()), first);
+        if !second.is_empty() {
+            ui.monospace(second);
+        }
+    }
+}
+
+/// The aimed shot's pass by the aimed target, once it has come (within half a tick of when it
+/// was due).
+pub fn aimed_pass<'a>(
+    lane: &'a crate::app::session::Lane,
+    note: &crate::app::session::AimNote,
+    shot: &crate::firing::Shot,
+) -> Option<&'a crate::render::history::Pass> {
+    let world = &lane.sim.world;
+    let due = world.time_of(note.tick) + shot.flight_time;
+    lane.history
+        .passes
+        .all()
+        .iter()
+        .filter(|p| p.body == note.body && p.target as usize == note.target)
+        .find(|p| (p.time - due).abs() < 0.5 * world.dt())
 }
 
 fn compare(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<Action>) {

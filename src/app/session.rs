@@ -35,9 +35,40 @@ use crate::replay::ReplayError;
 use crate::scene::{Scene, check_integrator};
 use crate::sim_loop::{LoopError, SimLoop};
 use crate::world::World;
-pub use lane::Lane;
+pub use lane::{AimNote, Lane};
 use recording::{FinishedRecording, LiveRecording, Recorded};
 use replaying::{ReplayVerdict, SessionReplay};
+
+/// The shot on `arc` at target `target` for this world's integrator, step, forces and launcher,
+/// launched at its current tick (a moving target where it is now).
+fn aim_lane(
+    world: &World,
+    target: usize,
+    arc: crate::exact::Arc,
+) -> Result<crate::firing::Shot, String> {
+    use crate::firing::{self, Mode, Range, ShotKind};
+    let mut scene = world.scene().clone();
+    scene.integrator = world.integrator();
+    scene.forces = *world.forces();
+    scene.launcher = *world.launcher();
+    let t = world.contacts().targets[target];
+    let now = crate::contact::Target {
+        center: t.center_at(world.tick() as f64 * world.dt()),
+        ..t
+    };
+    let range = Range::new(&scene, now);
+    let shots =
+        firing::solve(&range, Mode::Speed(scene.launcher.speed)).map_err(|e| e.to_string())?;
+    let kind = ShotKind::Arc(arc);
+    let shot = shots
+        .into_iter()
+        .find(|s| s.kind == kind)
+        .ok_or_else(|| format!("no {} at this speed", kind.label()))?;
+    match shot.blocked {
+        Some(b) => Err(format!("the {} {}", kind.label(), firing::blocked_text(&b))),
+        None => Ok(shot),
+    }
+}
 
 /// Clock settings that survive a restart.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -256,6 +287,55 @@ impl Session {
         for lane in &mut self.lanes {
             lane.sim.push(command);
             lane.pushed += 1;
+        }
+    }
+
+    /// Aims every lane at the scene's target `target` on `arc` and fires: each lane solves the
+    /// shot for its own integrator, dt and substeps with [`crate::firing::solve`] (speed from
+    /// its launcher, the target where it is at this tick), then gets its own `launch` command
+    /// with the solved angles and a `fire`, so recordings and replays see them. A lane whose
+    /// solve fails fires nothing; its note says why.
+    pub fn aim(&mut self, arc: crate::exact::Arc, target: usize) {
+        if self.refuse_while_replaying("aim") {
+            return;
+        }
+        if self.scene.targets.get(target).is_none() {
+            self.last_error = Some(format!("aim: the scene has no target {target}"));
+            return;
+        }
+        for lane in &mut self.lanes {
+            let world = &lane.sim.world;
+            let outcome = aim_lane(world, target, arc);
+            // The shot's id: the next one, after every body the queued commands spawn.
+            let spawned: u64 = lane
+                .sim
+                .queued()
+                .map(|c| match c.command {
+                    Command::Fire | Command::Spawn(_) => 1,
+                    Command::Reset => {
+                        let s = world.scene();
+                        s.bodies.len() as u64 + s.volley.map_or(0, |v| u64::from(v.count))
+                    }
+                    _ => 0,
+                })
+                .sum();
+            let body = crate::world::BodyId(world.state().next_id + spawned);
+            if let Ok(shot) = &outcome {
+                lane.sim.push(Command::SetLaunch {
+                    speed: Some(shot.speed),
+                    elevation_deg: Some(shot.elevation_deg),
+                    azimuth_deg: Some(shot.azimuth_deg),
+                    position: None,
+                });
+                lane.sim.push(Command::Fire);
+                lane.pushed += 2;
+            }
+            lane.aim = Some(AimNote {
+                target,
+                tick: lane.sim.world.tick(),
+                body,
+                outcome,
+            });
         }
     }
 

@@ -49,6 +49,10 @@ pub struct DisplayArgs {
     /// frames apart, drawing on after each.
     #[arg(long)]
     pub surface_drill: bool,
+    /// Play this input script (key presses and waits in frames; docs/window.md, "Input
+    /// scripts") from the first frame.
+    #[arg(long, value_name = "FILE")]
+    pub script: Option<PathBuf>,
 }
 
 impl Default for DisplayArgs {
@@ -62,6 +66,7 @@ impl Default for DisplayArgs {
             paused: false,
             time_scale: 1.0,
             surface_drill: false,
+            script: None,
         }
     }
 }
@@ -85,6 +90,16 @@ impl DisplayArgs {
                 "--time-scale: expected a number from 0 to 100",
             ));
         }
+        let script = match &self.script {
+            Some(path) => {
+                let text = std::fs::read_to_string(path).map_err(|e| {
+                    fail(EXIT_INPUT, format!("{}: cannot read: {e}", path.display()))
+                })?;
+                volley::app::script::parse(&text, &path.display().to_string())
+                    .map_err(|e| fail(EXIT_INPUT, e))?
+            }
+            None => Vec::new(),
+        };
         Ok(WindowOptions {
             compare: Vec::new(),
             exit_after_frames: self.exit_after_frames,
@@ -97,6 +112,7 @@ impl DisplayArgs {
             scenes: Vec::new(),
             record: None,
             surface_drill: self.surface_drill,
+            script,
         })
     }
 }
@@ -109,10 +125,16 @@ pub fn window_failure(e: AppError) -> Failure {
 }
 
 /// Prints what a window run leaves behind: its recordings, one line each, and with a frame
-/// limit the median frame time.
+/// limit each lane's state (tick, bodies, aim, closest passes by targets) and the median frame
+/// time.
 pub fn report(display: &DisplayArgs, summary: &RunSummary) {
     for r in &summary.recordings {
         println!("{r}");
+    }
+    if display.exit_after_frames.is_some() {
+        for lane in &summary.lanes {
+            println!("{lane}");
+        }
     }
     if let (Some(_), Some(interval), Some(work)) = (
         display.exit_after_frames,

@@ -11,6 +11,7 @@
 use glam::DVec3;
 
 use crate::command::Stamped;
+use crate::contact::EventKind;
 use crate::render::reference::References;
 use crate::render::trails::TrailRing;
 use crate::sim_loop::{ObserverError, TickObserver};
@@ -51,6 +52,78 @@ impl Positions {
     }
 }
 
+/// Most (body, target) pairs [`TargetPasses`] keeps; later pairs are not recorded.
+pub const MAX_PASSES: usize = 256;
+
+/// A body's closest pass by a target so far, from the contact stage's approach events.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pass {
+    /// The body.
+    pub body: BodyId,
+    /// Index of the target in the scene.
+    pub target: u32,
+    /// Closest distance between the centres (m).
+    pub distance: f64,
+    /// Sim time of that closest approach (s).
+    pub time: f64,
+    /// Whether the spheres touched.
+    pub hit: bool,
+}
+
+/// The closest pass of each body by each target: how the window shows whether a shot hit.
+#[derive(Clone, Debug, Default)]
+pub struct TargetPasses {
+    list: Vec<Pass>,
+    latest: Option<usize>,
+}
+
+impl TargetPasses {
+    /// Takes a tick's approach events in: a pass closer than the one kept replaces it.
+    pub fn record(&mut self, world: &World) {
+        for e in world.events() {
+            let EventKind::Approach {
+                target,
+                distance,
+                hit,
+            } = e.kind
+            else {
+                continue;
+            };
+            let key = (e.body, target);
+            let pass = Pass {
+                body: e.body,
+                target,
+                distance,
+                time: e.time,
+                hit,
+            };
+            match self.list.binary_search_by_key(&key, |p| (p.body, p.target)) {
+                Ok(k) => {
+                    if distance < self.list[k].distance {
+                        self.list[k] = pass;
+                    }
+                    self.latest = Some(k);
+                }
+                Err(k) if self.list.len() < MAX_PASSES => {
+                    self.list.insert(k, pass);
+                    self.latest = Some(k);
+                }
+                Err(_) => {}
+            }
+        }
+    }
+
+    /// Every pass kept, by body then target.
+    pub fn all(&self) -> &[Pass] {
+        &self.list
+    }
+
+    /// The pass updated last.
+    pub fn latest(&self) -> Option<&Pass> {
+        self.latest.and_then(|k| self.list.get(k))
+    }
+}
+
 /// The previous state, trails and references of one world, fed by the loop.
 #[derive(Debug)]
 pub struct TickHistory {
@@ -59,6 +132,8 @@ pub struct TickHistory {
     pub trails: TrailRing,
     /// Closed-form references, one per body, recorded the first time its id is seen.
     pub references: References,
+    /// Each body's closest pass by each target.
+    pub passes: TargetPasses,
     commands: u64,
 }
 
@@ -70,6 +145,7 @@ impl TickHistory {
             previous: Positions::default(),
             trails: TrailRing::new(origin),
             references: References::default(),
+            passes: TargetPasses::default(),
             commands: 0,
         };
         history.previous.copy_from(world);
@@ -135,6 +211,7 @@ impl TickObserver for TickHistory {
     fn after_tick(&mut self, world: &World) -> Result<(), ObserverError> {
         self.trails.record(world);
         self.references.after_tick(world);
+        self.passes.record(world);
         Ok(())
     }
 }

@@ -9,6 +9,7 @@ mod replay_support;
 
 mod render_golden;
 mod render_history;
+mod window_aim;
 mod window_record_replay;
 mod window_session;
 mod window_smoke;

@@ -96,7 +96,7 @@ fn under_xvfb_with(
 }
 
 /// [`under_xvfb_with`] without extra environment.
-fn under_xvfb(test: &str, args: &[&str]) -> Option<std::process::Output> {
+pub(crate) fn under_xvfb(test: &str, args: &[&str]) -> Option<std::process::Output> {
     under_xvfb_with(test, &[], args)
 }
 

@@ -52,8 +52,8 @@ pub const MIN_FLIGHT_TIME: f64 = 1e-4;
 pub const DEFAULT_MAX_FLIGHT_TIME: f64 = 120.0;
 /// Arrival times sampled by the scan, log-spaced from [`MIN_FLIGHT_TIME`] to the maximum.
 const SCAN_POINTS: usize = 97;
-/// Newton iterations allowed for one arrival time before the solve is called stalled.
-const NEWTON_ITERATIONS: u32 = 40;
+/// Newton iterations allowed for one arrival time by default ([`Range::newton_iterations`]).
+pub const NEWTON_ITERATIONS: u32 = 40;
 /// A converged solve puts the stepped shot this close to the centre, relative to the distance
 /// from launch to target (at least 1 m): far below the 1e-9 m promised, far above rounding.
 const RESIDUAL_TOLERANCE: f64 = 1e-12;
@@ -76,6 +76,8 @@ pub struct Range {
     pub contacts: bool,
     /// Longest flight (s) a solution may take.
     pub max_flight_time: f64,
+    /// Newton iterations allowed for one arrival time before the solve is called stalled.
+    pub newton_iterations: u32,
 }
 
 impl Range {
@@ -90,6 +92,7 @@ impl Range {
             target,
             contacts: true,
             max_flight_time: DEFAULT_MAX_FLIGHT_TIME,
+            newton_iterations: NEWTON_ITERATIONS,
         }
     }
 
@@ -514,7 +517,8 @@ impl Shooter for Stepped<'_> {
         }
         let mut inverse = jacobian(v, r).inverse();
         let mut last = r.length();
-        for iteration in 1..=NEWTON_ITERATIONS {
+        let iterations = self.range.newton_iterations;
+        for iteration in 1..=iterations {
             if last <= tolerance {
                 return Ok(v);
             }
@@ -543,7 +547,7 @@ impl Shooter for Stepped<'_> {
         if last <= tolerance {
             Ok(v)
         } else {
-            Err(stalled(NEWTON_ITERATIONS, last))
+            Err(stalled(iterations, last))
         }
     }
 }
@@ -707,21 +711,27 @@ impl Sample {
     }
 }
 
-fn scan(range: &Range, shooter: &dyn Shooter) -> Vec<Sample> {
+/// The scan, and the first failure among its arrival times (if any failed).
+fn scan(range: &Range, shooter: &dyn Shooter) -> (Vec<Sample>, Option<FiringError>) {
     let (lo, hi) = (MIN_FLIGHT_TIME, range.max_flight_time);
-    (0..SCAN_POINTS)
+    let mut first_error = None;
+    let samples: Vec<Sample> = (0..SCAN_POINTS)
         .map(|k| {
             let t = if k + 1 == SCAN_POINTS {
                 hi
             } else {
                 lo * libm::pow(hi / lo, k as f64 / (SCAN_POINTS - 1) as f64)
             };
-            Sample {
-                t,
-                v: shooter.launch_for(t).ok(),
-            }
+            let v = shooter
+                .launch_for(t)
+                .map_err(|e| {
+                    first_error.get_or_insert(e);
+                })
+                .ok();
+            Sample { t, v }
         })
-        .collect()
+        .collect();
+    (samples, first_error)
 }
 
 /// The arrival time minimising `|v(T)|` near the slowest sample, by golden-section search.
@@ -729,29 +739,12 @@ fn slowest(samples: &[Sample], shooter: &dyn Shooter) -> Option<Sample> {
     let k = (0..samples.len())
         .filter(|&k| samples[k].v.is_some())
         .min_by(|&a, &b| samples[a].speed().total_cmp(&samples[b].speed()))?;
-    let (mut a, mut b) = (
+    let bracket = (
         samples[k.saturating_sub(1)].t,
         samples[(k + 1).min(samples.len() - 1)].t,
     );
     let speed = |t: f64| shooter.launch_for(t).map_or(f64::INFINITY, |v| v.length());
-    let ratio = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut c, mut d) = (b - ratio * (b - a), a + ratio * (b - a));
-    let (mut fc, mut fd) = (speed(c), speed(d));
-    for _ in 0..200 {
-        if (b - a) <= 1e-13 * b {
-            break;
-        }
-        if fc < fd {
-            (b, d, fd) = (d, c, fc);
-            c = b - ratio * (b - a);
-            fc = speed(c);
-        } else {
-            (a, c, fc) = (c, d, fd);
-            d = a + ratio * (b - a);
-            fd = speed(d);
-        }
-    }
-    let t = 0.5 * (a + b);
+    let (t, _) = golden(speed, bracket, 1e-13 * bracket.1);
     let best = Sample {
         t,
         v: shooter.launch_for(t).ok(),
@@ -761,6 +754,30 @@ fn slowest(samples: &[Sample], shooter: &dyn Shooter) -> Option<Sample> {
     } else {
         samples[k]
     })
+}
+
+/// The minimum of `f` on `[a, b]` by golden-section search, until the bracket is below `tol`
+/// (at most 200 steps): returns `(x, f(x))` at the bracket's middle.
+fn golden(mut f: impl FnMut(f64) -> f64, (mut a, mut b): (f64, f64), tol: f64) -> (f64, f64) {
+    let ratio = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - ratio * (b - a), a + ratio * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..200 {
+        if b - a <= tol {
+            break;
+        }
+        if fc < fd {
+            (b, d, fd) = (d, c, fc);
+            c = b - ratio * (b - a);
+            fc = f(c);
+        } else {
+            (a, c, fc) = (c, d, fd);
+            d = a + ratio * (b - a);
+            fd = f(d);
+        }
+    }
+    let x = 0.5 * (a + b);
+    (x, f(x))
 }
 
 /// The root of `f` in the bracket `(a, b)` (values of opposite sign), then the launch there.
@@ -784,7 +801,13 @@ fn root(
 type Found = Vec<(ShotKind, f64, DVec3)>;
 
 fn solve_with(range: &Range, mode: Mode, shooter: &dyn Shooter) -> Result<Found, FiringError> {
-    let mut samples = scan(range, shooter);
+    let (mut samples, failure) = scan(range, shooter);
+    // Where no arrival time could be solved, the solver's own failure is the answer, except
+    // at a given speed, where an independent search says whether the target is in reach.
+    let nothing = samples.iter().all(|s| s.v.is_none());
+    if let (true, Some(e), false) = (nothing, &failure, matches!(mode, Mode::Speed(_))) {
+        return Err(e.clone());
+    }
     match mode {
         Mode::MinSpeed => {
             let best =
@@ -800,7 +823,15 @@ fn solve_with(range: &Range, mode: Mode, shooter: &dyn Shooter) -> Result<Found,
             }
             let best = slowest(&samples, shooter);
             let Some(best) = best.filter(|b| b.speed() <= speed) else {
-                return Err(out_of_reach(range, speed, best.map(|b| b.speed())));
+                let answer = out_of_reach(range, speed, best.map(|b| b.speed()));
+                // A shot at this speed that touches the target does reach it: then the solver
+                // failed, and says where.
+                if let (FiringError::OutOfReach { best_miss, .. }, Some(e)) = (&answer, failure)
+                    && *best_miss <= range.target.radius + range.radius
+                {
+                    return Err(e);
+                }
+                return Err(answer);
             };
             let at = samples.partition_point(|s| s.t < best.t);
             samples.insert(at, best);
@@ -876,34 +907,47 @@ fn out_of_reach(range: &Range, speed: f64, min_speed: Option<f64>) -> FiringErro
     }
 }
 
-/// The closest the stepped shot gets to the target at `speed`, over elevations towards it.
+/// The closest the stepped shot gets to the target at `speed`: the best of a 5 degree grid of
+/// elevations towards the target, then golden-section searches on elevation and azimuth in
+/// turn (six rounds, the windows shrinking), so a crosswind's drift is searched out too.
+/// Returns (miss, elevation).
 fn best_miss(range: &Range, speed: f64) -> (f64, f64) {
     let d = range.target.center - range.from;
-    let azimuth = libm::atan2(d.y, d.x).to_degrees();
-    let miss_at = |elevation: f64| {
+    let miss_at = |elevation: f64, azimuth: f64| {
         let v = crate::scene::angles_to_velocity(speed, elevation, azimuth);
         closest_approach(range, v, range.max_flight_time).map_or(f64::INFINITY, |(m, _)| m)
     };
-    let (mut best, mut at) = (f64::INFINITY, 0.0);
+    let mut azimuth = libm::atan2(d.y, d.x).to_degrees();
+    let (mut best, mut elevation) = (f64::INFINITY, 0.0);
     for k in 0..=36 {
         let e = -90.0 + 5.0 * k as f64;
-        let m = miss_at(e);
+        let m = miss_at(e, azimuth);
         if m < best {
-            (best, at) = (m, e);
+            (best, elevation) = (m, e);
         }
     }
-    let (mut a, mut b) = ((at - 5.0f64).max(-90.0), (at + 5.0f64).min(90.0));
-    for _ in 0..60 {
-        let (c, d) = (a + (b - a) / 3.0, b - (b - a) / 3.0);
-        if miss_at(c) < miss_at(d) {
-            b = d;
-        } else {
-            a = c;
+    let mut window = 5.0;
+    for _ in 0..6 {
+        let around = |x: f64, lo: f64, hi: f64| ((x - window).max(lo), (x + window).min(hi));
+        let (e, m) = golden(
+            |e| miss_at(e, azimuth),
+            around(elevation, -90.0, 90.0),
+            1e-9,
+        );
+        if m < best {
+            (best, elevation) = (m, e);
         }
+        let (a, m) = golden(
+            |a| miss_at(elevation, a),
+            around(azimuth, -360.0, 360.0),
+            1e-9,
+        );
+        if m < best {
+            (best, azimuth) = (m, a);
+        }
+        window *= 0.3;
     }
-    let e = 0.5 * (a + b);
-    let m = miss_at(e);
-    if m < best { (m, e) } else { (best, at) }
+    (best, elevation)
 }
 
 /// A world with one shot fired at `v0` and the target, over `duration` seconds.
@@ -959,26 +1003,9 @@ fn closest_approach(range: &Range, v0: DVec3, duration: f64) -> Option<(f64, f64
         let p = visit(stepped.integrator, &stepped.forces, partial).p;
         (p - range.target_at(t)).length()
     };
-    let (mut a, mut b) = (k.saturating_sub(1) as f64 * hs, (k + 1) as f64 * hs);
-    let ratio = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut c, mut d) = (b - ratio * (b - a), a + ratio * (b - a));
-    let (mut fc, mut fd) = (at(c), at(d));
-    for _ in 0..200 {
-        if b - a <= 1e-15 * b.max(hs) {
-            break;
-        }
-        if fc < fd {
-            (b, d, fd) = (d, c, fc);
-            c = b - ratio * (b - a);
-            fc = at(c);
-        } else {
-            (a, c, fc) = (c, d, fd);
-            d = a + ratio * (b - a);
-            fd = at(d);
-        }
-    }
-    let t = 0.5 * (a + b);
-    let best = (at(t), t);
+    let bracket = (k.saturating_sub(1) as f64 * hs, (k + 1) as f64 * hs);
+    let (t, d) = golden(at, bracket, 1e-15 * bracket.1.max(hs));
+    let best = (d, t);
     Some(if best.0 <= dist(k) {
         best
     } else {

@@ -196,6 +196,11 @@ impl SimLoop {
         self.schedule([Stamped { tick, command }]);
     }
 
+    /// The commands waiting for their tick, in the order they will be applied.
+    pub fn queued(&self) -> impl Iterator<Item = &Stamped> {
+        self.queue.iter()
+    }
+
     /// Runs no tick past `tick`: frames that would run more leave the time in the accumulator.
     pub fn stop_at(&mut self, tick: Option<u64>) {
         self.stop_at = tick;

@@ -26,6 +26,21 @@ pub struct Lane {
     pub stability: StabilityReport,
     /// The pre-check's warnings (empty when the lane's integrator is stable at its step).
     pub warnings: Vec<String>,
+    /// The last aim this lane solved for itself, or why it could not.
+    pub aim: Option<AimNote>,
+}
+
+/// What an aim solved for one lane: the shot fired, or why none was.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AimNote {
+    /// The target aimed at (index in the scene).
+    pub target: usize,
+    /// The tick the shot was fired at (the next tick boundary after the request).
+    pub tick: u64,
+    /// The id the fired shot gets (the world's next id after the commands queued before it).
+    pub body: crate::world::BodyId,
+    /// The solution fired, or the solver's answer why there is none.
+    pub outcome: Result<crate::firing::Shot, String>,
 }
 
 impl Lane {
@@ -40,6 +55,7 @@ impl Lane {
             stopped: None,
             pushed: 0,
             refused: 0,
+            aim: None,
         }
     }
 

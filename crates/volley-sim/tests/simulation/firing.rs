@@ -404,3 +404,28 @@ fn an_unstable_step_is_an_error_naming_the_step_not_a_hang() {
     );
     assert!(err.to_string().contains("diverges at tick"), "{err}");
 }
+
+#[test]
+fn newton_that_does_not_converge_is_an_error_naming_the_arrival_and_its_tick() {
+    // Quadratic drag is not affine in the launch velocity: one Newton iteration cannot land
+    // within 1e-12 of the range, so with the budget cut to one every arrival time stalls.
+    let scene = bundled("wind");
+    let mut range = Range::new(&scene, scene.targets[0]);
+    range.newton_iterations = 1;
+    let err = firing::solve(&range, Mode::Speed(24.0)).unwrap_err();
+    let FiringError::Stalled {
+        tick,
+        iterations,
+        residual,
+        ..
+    } = err
+    else {
+        panic!("{err}");
+    };
+    assert_eq!(iterations, 1);
+    assert!(tick >= 1 && residual > 0.0, "{err}");
+    assert!(
+        err.to_string().contains("stalled solving for arrival at"),
+        "{err}"
+    );
+}

@@ -1,0 +1,242 @@
+//! Input scripts (`--script FILE`): key presses and waits, applied frame by frame, so tests and
+//! demos drive the real window the way a user does.
+//!
+//! One step per line; `#` starts a comment; blank lines are skipped.
+//!
+//! ```text
+//! wait 10          # draw 10 frames first
+//! key a            # as if A were pressed: aim on the high arc
+//! key shift+a      # Shift+A: the low arc
+//! key space        # named keys: space, up, down, left, right, pageup, pagedown, home, f1, escape
+//! ```
+//!
+//! A key goes through the same mapping as a real key press ([`input::action_for_key`]), so a
+//! script does what the keyboard does. Steps run at the start of a frame, before the loop
+//! advances: every step up to the next `wait` runs in the same frame.
+
+use winit::keyboard::{Key, NamedKey};
+
+use crate::app::input::{self, Action};
+
+/// One step of a script.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Step {
+    /// Let this many frames be drawn.
+    Wait(u64),
+    /// What a key press asks for, and the key as written (for messages).
+    Key(Action, String),
+}
+
+/// A script line that cannot be read: the file, line and column, and what was expected.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScriptError {
+    /// The file as named.
+    pub file: String,
+    /// Line (from 1).
+    pub line: usize,
+    /// Column (from 1) of the word that is wrong.
+    pub column: usize,
+    /// What was expected.
+    pub message: String,
+}
+
+impl std::fmt::Display for ScriptError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}:{}:{}: {}",
+            self.file, self.line, self.column, self.message
+        )
+    }
+}
+
+impl std::error::Error for ScriptError {}
+
+/// Most frames one `wait` may ask for (a day at 60 Hz): a typo should be an error.
+pub const MAX_WAIT: u64 = 5_184_000;
+
+const NAMED: [(&str, NamedKey); 10] = [
+    ("space", NamedKey::Space),
+    ("up", NamedKey::ArrowUp),
+    ("down", NamedKey::ArrowDown),
+    ("left", NamedKey::ArrowLeft),
+    ("right", NamedKey::ArrowRight),
+    ("pageup", NamedKey::PageUp),
+    ("pagedown", NamedKey::PageDown),
+    ("home", NamedKey::Home),
+    ("f1", NamedKey::F1),
+    ("escape", NamedKey::Escape),
+];
+
+/// The key a script names: a named key, one character, or `shift+` and a letter.
+fn key_of(name: &str) -> Option<Key> {
+    let lower = name.to_ascii_lowercase();
+    if let Some((_, k)) = NAMED.iter().find(|(n, _)| *n == lower) {
+        return Some(Key::Named(*k));
+    }
+    let (shift, rest) = match lower.strip_prefix("shift+") {
+        Some(rest) => (true, rest),
+        None => (false, lower.as_str()),
+    };
+    let mut chars = rest.chars();
+    let c = chars.next()?;
+    if chars.next().is_some() {
+        return None;
+    }
+    let text = if shift { c.to_ascii_uppercase() } else { c };
+    Some(Key::Character(text.to_string().into()))
+}
+
+/// Reads a script; `file` names it in errors.
+pub fn parse(text: &str, file: &str) -> Result<Vec<Step>, ScriptError> {
+    let mut steps = Vec::new();
+    for (n, raw) in text.lines().enumerate() {
+        let code = raw.split('#').next().unwrap_or("");
+        let mut words = code.split_whitespace();
+        let Some(verb) = words.next() else {
+            continue;
+        };
+        let column = |word: &str| word.as_ptr() as usize - raw.as_ptr() as usize + 1;
+        let error = |word: &str, message: String| ScriptError {
+            file: file.to_string(),
+            line: n + 1,
+            column: column(word),
+            message,
+        };
+        let arg = words.next();
+        if let Some(extra) = words.next() {
+            return Err(error(extra, format!("`{verb}` takes one argument")));
+        }
+        let step = match (verb, arg) {
+            ("wait", Some(count)) => match count.parse::<u64>() {
+                Ok(frames) if (1..=MAX_WAIT).contains(&frames) => Step::Wait(frames),
+                _ => {
+                    return Err(error(
+                        count,
+                        format!(
+                            "wait: expected a number of frames from 1 to {MAX_WAIT}, got `{count}`"
+                        ),
+                    ));
+                }
+            },
+            ("key", Some(name)) => {
+                let action = key_of(name).and_then(|k| input::action_for_key(&k));
+                match action {
+                    Some(action) => Step::Key(action, name.to_string()),
+                    None => {
+                        return Err(error(
+                            name,
+                            format!(
+                                "key: `{name}` is not a key the window acts on (see the shortcuts in docs/window.md)"
+                            ),
+                        ));
+                    }
+                }
+            }
+            ("wait" | "key", None) => {
+                return Err(error(verb, format!("`{verb}` needs an argument")));
+            }
+            _ => {
+                return Err(error(
+                    verb,
+                    format!("expected `wait N` or `key NAME`, got `{verb}`"),
+                ));
+            }
+        };
+        steps.push(step);
+    }
+    Ok(steps)
+}
+
+/// A script being played: where it is and how many frames it still waits.
+#[derive(Clone, Debug, Default)]
+pub struct Player {
+    steps: Vec<Step>,
+    next: usize,
+    waiting: u64,
+}
+
+impl Player {
+    /// Plays `steps` from the first.
+    pub fn new(steps: Vec<Step>) -> Player {
+        Player {
+            steps,
+            next: 0,
+            waiting: 0,
+        }
+    }
+
+    /// The actions due this frame: every step up to the next wait (which then counts down one
+    /// frame at a time).
+    pub fn due(&mut self) -> Vec<Action> {
+        let mut out = Vec::new();
+        if self.waiting > 0 {
+            self.waiting -= 1;
+            return out;
+        }
+        while let Some(step) = self.steps.get(self.next) {
+            self.next += 1;
+            match step {
+                Step::Wait(frames) => {
+                    self.waiting = frames - 1;
+                    break;
+                }
+                Step::Key(action, _) => out.push(action.clone()),
+            }
+        }
+        out
+    }
+
+    /// Whether every step has run.
+    pub fn finished(&self) -> bool {
+        self.next >= self.steps.len() && self.waiting == 0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn steps_run_up_to_each_wait_and_waits_count_frames() {
+        let steps = parse("key f\nwait 2\nkey a\nkey shift+a # both arcs\n", "s").unwrap();
+        let mut p = Player::new(steps);
+        assert_eq!(p.due(), vec![Action::Fire]);
+        assert_eq!(p.due(), vec![]);
+        assert_eq!(
+            p.due(),
+            vec![
+                Action::Aim(crate::exact::Arc::High),
+                Action::Aim(crate::exact::Arc::Low)
+            ]
+        );
+        assert!(p.finished());
+    }
+
+    #[test]
+    fn errors_name_the_line_and_column_and_what_was_expected() {
+        let e = parse("wait 1\n  key q\n", "demo.txt").unwrap_err();
+        assert_eq!((e.line, e.column), (2, 7), "{e}");
+        assert!(e.to_string().starts_with("demo.txt:2:7: key: `q`"), "{e}");
+        let e = parse("wait 0", "s").unwrap_err();
+        assert_eq!(e.column, 6);
+        assert!(
+            parse("jump 3", "s")
+                .unwrap_err()
+                .message
+                .contains("expected `wait N`")
+        );
+        assert!(
+            parse("key a b", "s")
+                .unwrap_err()
+                .message
+                .contains("one argument")
+        );
+        assert!(
+            parse("wait", "s")
+                .unwrap_err()
+                .message
+                .contains("needs an argument")
+        );
+    }
+}

@@ -1,0 +1,172 @@
+//! The window's aim: every lane solves its own shot (`volley::firing`) and fires it through
+//! commands; the shot passes the target's centre in that lane. Driven through the session (no
+//! window) and through the real window under Xvfb with an input script.
+
+use crate::support;
+
+use std::time::Duration;
+
+use volley::app::session::Session;
+use volley::exact::Arc;
+use volley::{Integrator, scene};
+
+const FRAME: Duration = Duration::from_millis(50);
+/// The promise of `volley::firing`: the stepped shot passes the centre within this (m).
+const HIT: f64 = 1e-9;
+
+fn session(name: &str, compare: Vec<Integrator>) -> Session {
+    let path = support::crate_path(&format!("assets/scenes/{name}.ron"));
+    Session::new(scene::load(&path).unwrap(), &path, compare)
+}
+
+/// Runs frames until every lane's aimed shot has passed, or `max` frames; returns each lane's
+/// miss.
+fn misses(session: &mut Session, max: usize) -> Vec<f64> {
+    for _ in 0..max {
+        session.frame(FRAME);
+        if session.lanes().iter().all(|l| aimed(l).is_some()) {
+            break;
+        }
+    }
+    session
+        .lanes()
+        .iter()
+        .map(|l| aimed(l).unwrap_or(f64::NAN))
+        .collect()
+}
+
+fn aimed(lane: &volley::app::session::Lane) -> Option<f64> {
+    let note = lane.aim.as_ref()?;
+    let shot = note.outcome.as_ref().ok()?;
+    volley::app::panel::aimed_pass(lane, note, shot).map(|p| p.distance)
+}
+
+#[test]
+fn in_compare_mode_each_lane_aims_for_itself_and_hits() {
+    let lanes = vec![
+        Integrator::ExplicitEuler,
+        Integrator::SemiImplicitEuler,
+        Integrator::Rk4,
+    ];
+    for arc in [Arc::High, Arc::Low] {
+        let mut s = session("seed", lanes.clone());
+        s.frame(FRAME);
+        s.aim(arc, 0);
+        // Each lane got its own launch: different integrators, different elevations.
+        let elevations: Vec<f64> = s
+            .lanes()
+            .iter()
+            .map(|l| {
+                l.aim
+                    .as_ref()
+                    .unwrap()
+                    .outcome
+                    .as_ref()
+                    .unwrap()
+                    .elevation_deg
+            })
+            .collect();
+        assert!(elevations[0] != elevations[1] && elevations[1] != elevations[2]);
+        for (lane, miss) in lanes.iter().zip(misses(&mut s, 400)) {
+            assert!(miss < HIT, "{lane:?} {arc:?}: {miss}");
+        }
+        // The aim went through commands: the launcher shows the solved angles.
+        for l in s.lanes() {
+            let shot = l.aim.as_ref().unwrap().outcome.as_ref().unwrap();
+            assert_eq!(l.sim.world.launcher().elevation_deg, shot.elevation_deg);
+        }
+    }
+}
+
+#[test]
+fn aiming_at_a_moving_target_leads_it() {
+    // The wind scene (quadratic drag and a crosswind) with its target moving.
+    let path = support::crate_path("assets/scenes/wind.ron");
+    let mut scene = scene::load(&path).unwrap();
+    scene.targets[0].velocity = glam::DVec3::new(-2.0, 1.5, 0.0);
+    scene.volley = None;
+    let mut s = Session::new(
+        scene,
+        &path,
+        vec![Integrator::SemiImplicitEuler, Integrator::Rk4],
+    );
+    for _ in 0..10 {
+        s.frame(FRAME);
+    }
+    s.aim(Arc::Low, 0);
+    for miss in misses(&mut s, 400) {
+        assert!(miss < HIT, "{miss}");
+    }
+}
+
+#[test]
+fn a_scene_without_targets_says_so_and_a_failed_solve_fires_nothing() {
+    let mut s = session("spring", Vec::new());
+    s.aim(Arc::High, 0);
+    assert!(s.last_error.as_deref().unwrap().contains("no target 0"));
+    // 5 m/s cannot reach the seed's target: the note says why and nothing is fired.
+    let path = support::crate_path("assets/scenes/seed.ron");
+    let mut scene = scene::load(&path).unwrap();
+    scene.launcher.speed = 5.0;
+    let mut s = Session::new(scene, &path, Vec::new());
+    let bodies = s.world().bodies().len();
+    s.aim(Arc::High, 0);
+    s.frame(Duration::from_millis(500));
+    let note = s.lanes()[0].aim.as_ref().unwrap();
+    assert!(note.outcome.as_ref().unwrap_err().contains("out of reach"));
+    assert_eq!(s.world().bodies().len(), bodies);
+}
+
+#[test]
+fn a_script_drives_the_real_window_to_aim_both_arcs_and_each_lane_hits() {
+    let test = "a_script_drives_the_real_window_to_aim_both_arcs_and_each_lane_hits";
+    let dir = support::scratch_dir(test);
+    let script = dir.join("aim.script");
+    std::fs::write(&script, "wait 3\nkey a\nwait 3\nkey shift+a\n").unwrap();
+    let shot = dir.join("aim.png");
+    let args = [
+        "window",
+        "seed",
+        "--compare",
+        "explicit-euler,semi-implicit-euler,rk4",
+        "--script",
+        script.to_str().unwrap(),
+        "--time-scale",
+        "4",
+        "--exit-after-frames",
+        "110",
+        "--no-watch",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ];
+    let Some(out) = crate::window_smoke::under_xvfb(test, &args) else {
+        return;
+    };
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // Per lane: bodies 1 (the high arc, fired at tick 1) and 2 (the low arc) pass the centre.
+    let lanes: Vec<&str> = stdout.split("lane ").skip(1).collect();
+    assert_eq!(lanes.len(), 3, "{stdout}");
+    for lane in lanes {
+        for body in ["body 1 passed target 0 at ", "body 2 passed target 0 at "] {
+            let line = lane
+                .lines()
+                .find(|l| l.contains(body))
+                .unwrap_or_else(|| panic!("{lane}"));
+            let miss: f64 = line
+                .split(body)
+                .nth(1)
+                .and_then(|r| r.split(' ').next())
+                .and_then(|m| m.parse().ok())
+                .unwrap_or_else(|| panic!("{line}"));
+            assert!(miss < HIT, "{line}");
+        }
+        assert!(lane.contains("aim at target 0 from tick"), "{lane}");
+    }
+    let image = volley::render::Image::load_png(&shot).expect("the last frame was saved");
+    assert_eq!((image.width, image.height), (640, 400));
+}
