@@ -55,7 +55,12 @@ impl PanelState {
             azimuth_deg: 0.0,
             dt_ms: 0.0,
             substeps: 1,
-            compare_pick: DEFAULT_COMPARE.to_vec(),
+            // The lanes running (`--compare`), else the default set to start compare mode with.
+            compare_pick: if session.is_comparing() {
+                session.compare().to_vec()
+            } else {
+                DEFAULT_COMPARE.to_vec()
+            },
             aim_target: 0,
             file_note: None,
             scenes,

@@ -226,3 +226,15 @@ fn every_shortcut_the_panel_lists_is_in_the_readme() {
         assert!(rows.contains(&row), "README lacks the row `{row}`");
     }
 }
+
+#[test]
+fn the_panel_ticks_the_integrators_compare_mode_runs() {
+    // `--compare explicit-euler,rk4` must show those two ticked, not the default four.
+    let path = support::crate_path("assets/scenes/seed.ron");
+    let compared = vec![Integrator::ExplicitEuler, Integrator::Rk4];
+    let session = Session::new(scene::load(&path).unwrap(), &path, compared.clone());
+    let panel = volley::app::panel::PanelState::new(&session, Vec::new());
+    assert_eq!(panel.compare_pick, compared);
+    let panel = volley::app::panel::PanelState::new(&seed(), Vec::new());
+    assert_eq!(panel.compare_pick, volley::app::input::DEFAULT_COMPARE.to_vec());
+}
