@@ -236,5 +236,8 @@ fn the_panel_ticks_the_integrators_compare_mode_runs() {
     let panel = volley::app::panel::PanelState::new(&session, Vec::new());
     assert_eq!(panel.compare_pick, compared);
     let panel = volley::app::panel::PanelState::new(&seed(), Vec::new());
-    assert_eq!(panel.compare_pick, volley::app::input::DEFAULT_COMPARE.to_vec());
+    assert_eq!(
+        panel.compare_pick,
+        volley::app::input::DEFAULT_COMPARE.to_vec()
+    );
 }

@@ -414,6 +414,13 @@ impl SchemeVisitor for Partial {
     }
 }
 
+/// The rounding floor of a position stepped `steps` times at coordinates of magnitude `size`:
+/// `steps` ulps of `size` (each step rounds by up to half an ulp, and the partial step and the
+/// target's own position once more). Below this no launch correction is meaningful.
+pub fn rounding_floor(steps: f64, size: f64) -> f64 {
+    steps * f64::EPSILON * size
+}
+
 /// Whole steps of `hs` and the remainder in `t`.
 fn split_time(t: f64, hs: f64) -> (u64, f64) {
     let mut steps = (t / hs).floor().max(0.0) as u64;
@@ -494,6 +501,15 @@ impl Shooter for Stepped<'_> {
     fn launch_for(&self, t: f64) -> Result<DVec3, FiringError> {
         let goal = self.range.target_at(t);
         let tolerance = RESIDUAL_TOLERANCE * self.range.scale();
+        // What rounding alone leaves: each of the `n` steps rounds the position by up to half
+        // an ulp of its size, so `p(T)` is only defined to about `n ulp(|p|)`; far from the
+        // origin over a long flight that exceeds the tolerance, and no Newton step helps.
+        let steps = split_time(t, self.hs).0 as f64 + 1.0;
+        let size = goal
+            .abs()
+            .max_element()
+            .max(self.range.from.abs().max_element());
+        let floor = rounding_floor(steps, size);
         let residual = |v: DVec3| self.position(v, t) - goal;
         let jacobian = |v: DVec3, r: DVec3| {
             let delta = 1e-5 * v.length().max(1.0);
@@ -538,7 +554,7 @@ impl Shooter for Stepped<'_> {
                 // Slow: the Jacobian is stale (a nonlinear force); take it afresh.
                 inverse = jacobian(next, r_next).inverse();
             }
-            if size >= last && last <= 1e3 * tolerance {
+            if size >= last && last <= tolerance + floor {
                 // At the rounding floor: no iteration makes it smaller.
                 return Ok(v);
             }

@@ -429,3 +429,50 @@ fn newton_that_does_not_converge_is_an_error_naming_the_arrival_and_its_tick() {
         "{err}"
     );
 }
+
+#[test]
+fn every_bundled_scene_is_aimed_with_its_own_integrator_and_step() {
+    // A target 20 m out, 5 m across and 3 m up from each scene's launcher, the slowest shot
+    // (always defined: no speed to be too slow), solved for the scene's own integrator, dt and
+    // substeps, contacts on.
+    let mut solved = 0;
+    for (name, _) in scene::BUNDLED {
+        let scene = bundled(name);
+        let l = scene.launcher;
+        let target = Target {
+            center: l.position + DVec3::new(20.0, 5.0, 3.0),
+            radius: 0.5,
+            velocity: DVec3::ZERO,
+        };
+        let range = Range::new(&scene, target);
+        let result = firing::solve(&range, Mode::MinSpeed);
+        match *name {
+            // A wall stands between the launcher and every point beyond x = 5 m or so.
+            "bounce" | "hard/tunnelling" => {
+                assert!(
+                    matches!(result, Err(FiringError::Blocked(_))),
+                    "{name}: {result:?}"
+                );
+            }
+            // Explicit Euler on k/m = 1e4 and 1e5 at 60 Hz is unstable: the world's guard
+            // stops the shot, and the answer says at which tick.
+            "hard/stiff_spring" | "hard/stiff_spring_1e5" => {
+                assert!(
+                    matches!(result, Err(FiringError::Diverged { tick: Some(_), .. })),
+                    "{name}: {result:?}"
+                );
+            }
+            _ => {
+                let shot = result.unwrap_or_else(|e| panic!("{name}: {e}"))[0];
+                // 1e-9 m, or the rounding floor of positions this far out over this many steps
+                // where that is larger (10 km out over a 120 s flight: a few nm).
+                let steps = (shot.flight_time / scene.dt()).ceil() * f64::from(scene.substeps);
+                let size = target.center.abs().max_element();
+                let bound = HIT.max(firing::rounding_floor(steps + 1.0, size));
+                assert!(shot.miss < bound, "{name}: {} vs {bound}", shot.miss);
+                solved += 1;
+            }
+        }
+    }
+    assert_eq!(solved, scene::BUNDLED.len() - 4);
+}
