@@ -22,7 +22,7 @@
 //! Bottom up, with no import from a lower layer to a higher one: [`body`], [`rng`], [`simd`] ->
 //! [`forces`] -> [`exact`] -> [`integrate`] -> [`contact`] -> [`scene`] -> [`world`] -> [`step`]
 //! -> [`command`], [`hash`], [`clock`] -> [`sim_loop`] -> [`table`], [`replay`], [`study`],
-//! [`stability`], [`firing`]. Above this crate, in the `volley` package: the renderer and the window, then
+//! [`stability`], [`firing`], [`timeline`]. Above this crate, in the `volley` package: the renderer and the window, then
 //! the CLI. Nothing here depends on a GPU, window, plotting or command-line crate.
 //!
 //! ## The path through `src/`
@@ -78,12 +78,14 @@ pub mod hash;
 pub mod sim_loop;
 
 // 6. What runs on the loop: the state table, recordings and replays, the study, the stability
-//    pre-check, firing solutions solved on the stepped trajectory.
+//    pre-check, firing solutions solved on the stepped trajectory, the in-memory history for
+//    rewinding.
 pub mod firing;
 pub mod replay;
 pub mod stability;
 pub mod study;
 pub mod table;
+pub mod timeline;
 
 pub use clock::{FixedClock, FrameSource, FrameTicks, RealClock, VirtualClock};
 pub use command::{Command, Stamped};

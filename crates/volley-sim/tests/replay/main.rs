@@ -11,3 +11,4 @@ mod columns;
 mod replay;
 mod replay_fuzz;
 mod replay_hash_runs;
+mod timeline;

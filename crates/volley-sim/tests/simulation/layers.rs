@@ -16,7 +16,14 @@ const LAYERS: &[&[&str]] = &[
     &["step"],
     &["command", "hash", "clock"],
     &["sim_loop"],
-    &["table", "replay", "study", "stability", "firing"],
+    &[
+        "table",
+        "replay",
+        "study",
+        "stability",
+        "firing",
+        "timeline",
+    ],
 ];
 
 fn layer_of(module: &str) -> Option<usize> {
