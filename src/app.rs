@@ -75,6 +75,8 @@ pub struct WindowOptions {
     pub surface_drill: bool,
     /// An input script played from the first frame (`--script FILE`, [`script`]).
     pub script: Vec<script::Step>,
+    /// Each lane's timeline budget (bytes), [`crate::timeline::DEFAULT_BUDGET`] by default.
+    pub history_budget: usize,
 }
 
 /// Why the window could not run.
@@ -288,6 +290,9 @@ struct App {
 
 impl App {
     fn new(mut session: Session, options: WindowOptions) -> App {
+        if options.history_budget != session.history_budget() {
+            session.set_history_budget(options.history_budget);
+        }
         session.set_paused(options.paused);
         session.set_time_scale(options.time_scale);
         let panel = PanelState::new(&session, options.scenes.clone());

@@ -13,6 +13,11 @@ impl App {
         match action {
             Action::TogglePause => s.set_paused(!s.is_paused()),
             Action::Step => s.single_step(),
+            Action::Seek(tick) => s.seek(tick),
+            Action::StepBack => s.step_back(),
+            Action::JumpStart => s.jump_to_start(),
+            Action::JumpEnd => s.jump_to_end(),
+            Action::ToggleReverse => s.toggle_reverse(),
             Action::SetTimeScale(x) => s.set_time_scale(x),
             Action::ScaleTime(f) => s.set_time_scale((s.time_scale() * f).clamp(1e-3, 100.0)),
             Action::SetStep { dt, substeps } => self.set_step(dt, substeps),

@@ -46,6 +46,16 @@ pub enum Action {
     Fire,
     /// Every lane aims at the selected target on this arc (its own solve) and fires.
     Aim(crate::exact::Arc),
+    /// Move every lane to this tick on the timeline (paused or not, as it was).
+    Seek(u64),
+    /// Pause and go back one tick.
+    StepBack,
+    /// Go to the first tick held, paused.
+    JumpStart,
+    /// Go to the last tick run, paused.
+    JumpEnd,
+    /// Play backwards, or stop doing so.
+    ToggleReverse,
     /// Put the bodies back: a `Reset` command (in compare mode after a divergence, a restart
     /// at tick 0).
     Reset,
@@ -85,9 +95,12 @@ pub const DEFAULT_COMPARE: [Integrator; 4] = [
 ];
 
 /// Every keyboard shortcut, as (keys, what they do): listed in the panel and the README.
-pub const SHORTCUTS: [(&str, &str); 18] = [
+pub const SHORTCUTS: [(&str, &str); 21] = [
     ("Space", "pause / resume"),
     ("N or .", "single step (pauses)"),
+    (",", "step back one tick (pauses)"),
+    ("B", "play backwards on / off"),
+    ("Backspace / End", "jump to the first / the last tick held"),
     ("F", "fire"),
     (
         "A / Shift+A",
@@ -138,6 +151,8 @@ pub fn action_for_key(key: &Key) -> Option<Action> {
             NamedKey::PageUp => A::NudgeLaunch(1.0, 0.0, 0.0),
             NamedKey::PageDown => A::NudgeLaunch(-1.0, 0.0, 0.0),
             NamedKey::Home => A::FrameScene,
+            NamedKey::Backspace => A::JumpStart,
+            NamedKey::End => A::JumpEnd,
             NamedKey::F1 => A::TogglePanel,
             NamedKey::Escape => A::Quit,
             _ => return None,
@@ -146,6 +161,8 @@ pub fn action_for_key(key: &Key) -> Option<Action> {
         Key::Character(text) => match text.to_lowercase().as_str() {
             "a" => A::Aim(crate::exact::Arc::High),
             "n" | "." => A::Step,
+            "," => A::StepBack,
+            "b" => A::ToggleReverse,
             "f" => A::Fire,
             "r" => A::Reset,
             "v" => A::ToggleRecord,

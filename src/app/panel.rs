@@ -118,6 +118,7 @@ pub fn show(
         ui.separator();
         let live = session.replay().is_none();
         clock(ui, state, session, out);
+        timeline(ui, session, out);
         ui.separator();
         ui.add_enabled_ui(live, |ui| simulation(ui, state, session, out));
         ui.separator();
@@ -251,6 +252,71 @@ fn clock(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<A
         "Changing dt or substeps restarts the scene at tick 0 with the new step, so sim time \
          stays tick x dt.",
     );
+}
+
+/// The scrub bar over the ticks held and Box2D's `|< < play > >|`, with playing backwards.
+fn timeline(ui: &mut Ui, session: &Session, out: &mut Vec<Action>) {
+    let Some((start, end)) = session.history_range() else {
+        ui.weak(format!(
+            "timeline off: a keyframe of this world is over an eighth of the {} MiB budget",
+            session.history_budget() >> 20
+        ));
+        return;
+    };
+    let now = session.world().tick();
+    let mut tick = now;
+    ui.spacing_mut().slider_width = 200.0;
+    let slider = egui::Slider::new(&mut tick, start..=end.max(start + 1))
+        .text("timeline")
+        .integer();
+    if ui.add_enabled(end > start, slider).changed() && tick != now {
+        out.push(Action::Seek(tick));
+    }
+    ui.horizontal(|ui| {
+        let button = |ui: &mut Ui, text: &str, hover: &str| ui.button(text).on_hover_text(hover);
+        if button(ui, "|<", "jump to the first tick held (Backspace)").clicked() {
+            out.push(Action::JumpStart);
+        }
+        if button(ui, "<", "step back one tick (,)").clicked() {
+            out.push(Action::StepBack);
+        }
+        let back = if session.is_reversing() { "stop" } else { "<<" };
+        if button(ui, back, "play backwards (B)").clicked() {
+            out.push(Action::ToggleReverse);
+        }
+        let play = if session.is_paused() && !session.is_reversing() {
+            ">>"
+        } else {
+            "||"
+        };
+        if button(ui, play, "play / pause (Space)").clicked() {
+            out.push(if session.is_reversing() {
+                Action::ToggleReverse
+            } else {
+                Action::TogglePause
+            });
+        }
+        if button(ui, ">", "step forward one tick (N)").clicked() {
+            out.push(Action::Step);
+        }
+        if button(ui, ">|", "jump to the last tick run (End)").clicked() {
+            out.push(Action::JumpEnd);
+        }
+    });
+    if session.replay().is_none()
+        && let Some(t) = session.lanes()[0].history.timeline.as_ref()
+    {
+        ui.weak(format!(
+            "ticks {start} to {end}: {} keyframes every {} ticks, {:.1} of {} MiB a lane",
+            t.keyframes(),
+            t.every(),
+            t.bytes() as f64 / f64::from(1 << 20),
+            t.budget() >> 20
+        ));
+    }
+    if let Some(note) = &session.timeline_note {
+        ui.weak(note);
+    }
 }
 
 fn simulation(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<Action>) {

@@ -7,7 +7,8 @@
 //! wait 10          # draw 10 frames first
 //! key a            # as if A were pressed: aim on the high arc
 //! key shift+a      # Shift+A: the low arc
-//! key space        # named keys: space, up, down, left, right, pageup, pagedown, home, f1, escape
+//! key space        # named keys: space, up, down, left, right, pageup, pagedown, home, end,
+//!                  # backspace, f1, escape
 //! ```
 //!
 //! A key goes through the same mapping as a real key press ([`input::action_for_key`]), so a
@@ -55,7 +56,7 @@ impl std::error::Error for ScriptError {}
 /// Most frames one `wait` may ask for (a day at 60 Hz): a typo should be an error.
 pub const MAX_WAIT: u64 = 5_184_000;
 
-const NAMED: [(&str, NamedKey); 10] = [
+const NAMED: [(&str, NamedKey); 12] = [
     ("space", NamedKey::Space),
     ("up", NamedKey::ArrowUp),
     ("down", NamedKey::ArrowDown),
@@ -66,6 +67,8 @@ const NAMED: [(&str, NamedKey); 10] = [
     ("home", NamedKey::Home),
     ("f1", NamedKey::F1),
     ("escape", NamedKey::Escape),
+    ("backspace", NamedKey::Backspace),
+    ("end", NamedKey::End),
 ];
 
 /// The key a script names: a named key, one character, or `shift+` and a letter.

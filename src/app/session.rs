@@ -22,6 +22,7 @@
 mod lane;
 pub mod recording;
 pub mod replaying;
+mod rewind;
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -103,6 +104,12 @@ pub struct Session {
     /// Where recordings without a named file go ([`recording::DEFAULT_DIR`] under it); empty,
     /// the default, is the working directory.
     pub recordings_dir: PathBuf,
+    /// Memory budget of each lane's timeline (bytes).
+    history_budget: usize,
+    /// Playing backwards: sim time owed to the reverse playback (scaled by the time scale).
+    reverse: Option<Duration>,
+    /// What the last seek did to a recording or the recorded future, for the panel.
+    pub timeline_note: Option<String>,
 }
 
 impl Session {
@@ -131,6 +138,9 @@ impl Session {
             last_replay: None,
             last_error: None,
             recordings_dir: PathBuf::new(),
+            history_budget: crate::timeline::DEFAULT_BUDGET,
+            reverse: None,
+            timeline_note: None,
         };
         session.build_lanes();
         session
@@ -163,7 +173,7 @@ impl Session {
                 world.set_threads(self.threads);
                 let mut sim = SimLoop::new(world);
                 self.tune(&mut sim);
-                Lane::new(sim, origin)
+                Lane::new(sim, origin, Some(self.history_budget))
             })
             .collect();
         if self.lanes.is_empty() {
@@ -191,6 +201,10 @@ impl Session {
     /// diverges stops and pauses every clock; a recording of the first lane ends with its
     /// divergence.
     pub fn frame(&mut self, delta: Duration) {
+        if self.reverse_frame(delta) {
+            self.last = FrameTicks::default();
+            return;
+        }
         let mut first = None;
         let mut alarm = false;
         for (i, lane) in self.lanes.iter_mut().enumerate() {
@@ -284,6 +298,7 @@ impl Session {
             self.last_error = Some(e.to_string());
             return;
         }
+        self.take_over_future();
         for lane in &mut self.lanes {
             lane.sim.push(command);
             lane.pushed += 1;
@@ -303,6 +318,7 @@ impl Session {
             self.last_error = Some(format!("aim: the scene has no target {target}"));
             return;
         }
+        self.take_over_future();
         for lane in &mut self.lanes {
             let world = &lane.sim.world;
             let outcome = aim_lane(world, target, arc);
@@ -430,6 +446,9 @@ impl Session {
 
     /// Pauses or resumes every lane (the user's pause: it replaces a pause a divergence caused).
     pub fn set_paused(&mut self, paused: bool) {
+        if !paused {
+            self.reverse = None;
+        }
         self.clock.paused = paused;
         self.paused_by_alarm = false;
         for lane in &mut self.lanes {

@@ -49,6 +49,9 @@ pub struct DisplayArgs {
     /// frames apart, drawing on after each.
     #[arg(long)]
     pub surface_drill: bool,
+    /// Memory budget of each lane's timeline (MiB): keyframes and commands for rewinding.
+    #[arg(long, value_name = "MIB", default_value_t = 64)]
+    pub history_budget: u32,
     /// Play this input script (key presses and waits in frames; docs/window.md, "Input
     /// scripts") from the first frame.
     #[arg(long, value_name = "FILE")]
@@ -66,6 +69,7 @@ impl Default for DisplayArgs {
             paused: false,
             time_scale: 1.0,
             surface_drill: false,
+            history_budget: 64,
             script: None,
         }
     }
@@ -113,6 +117,7 @@ impl DisplayArgs {
             record: None,
             surface_drill: self.surface_drill,
             script,
+            history_budget: (self.history_budget as usize) << 20,
         })
     }
 }

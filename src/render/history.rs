@@ -15,6 +15,7 @@ use crate::contact::EventKind;
 use crate::render::reference::References;
 use crate::render::trails::TrailRing;
 use crate::sim_loop::{ObserverError, TickObserver};
+use crate::timeline::Timeline;
 use crate::world::{BodyId, World};
 
 /// Body positions at one moment, in id order.
@@ -134,6 +135,10 @@ pub struct TickHistory {
     pub references: References,
     /// Each body's closest pass by each target.
     pub passes: TargetPasses,
+    /// The run's keyframes and commands for rewinding (the window's lanes keep one; a
+    /// headless `--frames` run does not).
+    pub timeline: Option<Timeline>,
+    origin: DVec3,
     commands: u64,
 }
 
@@ -146,6 +151,8 @@ impl TickHistory {
             trails: TrailRing::new(origin),
             references: References::default(),
             passes: TargetPasses::default(),
+            timeline: None,
+            origin,
             commands: 0,
         };
         history.previous.copy_from(world);
@@ -154,7 +161,26 @@ impl TickHistory {
         history
     }
 
-    /// Commands the loop has applied so far.
+    /// [`TickHistory::new`] with a timeline of `budget` bytes, if a keyframe of this world fits
+    /// it ([`Timeline::fits`]).
+    pub fn with_timeline(world: &World, origin: DVec3, budget: usize) -> TickHistory {
+        let mut history = TickHistory::new(world, origin);
+        if Timeline::fits(world, budget) {
+            history.timeline = Some(Timeline::new(world, budget));
+        }
+        history
+    }
+
+    /// After a seek: the world's state is the previous one, and the trails start again there
+    /// (the references, passes and timeline are the run's and stay).
+    pub fn after_seek(&mut self, world: &World) {
+        self.previous.copy_from(world);
+        self.trails = TrailRing::new(self.origin);
+        self.trails.record(world);
+    }
+
+    /// Commands the loop has applied so far (a replay of the recorded future after a seek is
+    /// not counted again).
     pub fn commands_applied(&self) -> u64 {
         self.commands
     }
@@ -197,10 +223,25 @@ impl TickHistory {
 }
 
 impl TickObserver for TickHistory {
-    fn on_command(&mut self, world: &World, _stamped: &Stamped) -> Result<(), ObserverError> {
-        self.commands += 1;
+    fn on_command(&mut self, world: &World, stamped: &Stamped) -> Result<(), ObserverError> {
+        let again = self
+            .timeline
+            .as_ref()
+            .is_some_and(|t| t.is_recorded(stamped));
+        if !again {
+            self.commands += 1;
+        }
+        if let Some(t) = self.timeline.as_mut() {
+            t.on_command(world, stamped)?;
+        }
         self.references.observe(world);
         Ok(())
+    }
+
+    fn on_divergence(&mut self, world: &World, divergence: &crate::world::Divergence) {
+        if let Some(t) = self.timeline.as_mut() {
+            t.on_divergence(world, divergence);
+        }
     }
 
     fn before_last_tick(&mut self, world: &World) {
@@ -212,6 +253,9 @@ impl TickObserver for TickHistory {
         self.trails.record(world);
         self.references.after_tick(world);
         self.passes.record(world);
+        if let Some(t) = self.timeline.as_mut() {
+            t.after_tick(world)?;
+        }
         Ok(())
     }
 }

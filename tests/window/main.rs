@@ -11,5 +11,6 @@ mod render_golden;
 mod render_history;
 mod window_aim;
 mod window_record_replay;
+mod window_rewind;
 mod window_session;
 mod window_smoke;

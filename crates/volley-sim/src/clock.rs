@@ -169,6 +169,15 @@ impl FixedClock {
         }
     }
 
+    /// Moves the clock to `tick` (after a seek on the timeline): the accumulator is emptied, so
+    /// the state is drawn at that tick; pause, time scale and the dropped time are kept.
+    pub fn set_tick(&mut self, tick: u64) {
+        self.tick = tick;
+        self.accumulator = Duration::ZERO;
+        self.pending_steps = 0;
+        self.last = FrameTicks::default();
+    }
+
     /// Fraction of a tick in the accumulator, in [0, 1): how far past the current tick the
     /// displayed state should be drawn.
     pub fn alpha(&self) -> f64 {

@@ -196,6 +196,11 @@ impl SimLoop {
         self.schedule([Stamped { tick, command }]);
     }
 
+    /// Forgets every queued command (a seek replaces them with the timeline's).
+    pub fn clear_queued(&mut self) {
+        self.queue.clear();
+    }
+
     /// The commands waiting for their tick, in the order they will be applied.
     pub fn queued(&self) -> impl Iterator<Item = &Stamped> {
         self.queue.iter()

@@ -202,6 +202,22 @@ impl Timeline {
         self.end = tick;
     }
 
+    /// Whether `stamped` is the next command of the recorded future: a re-run applying it
+    /// again, not a new command.
+    pub fn is_recorded(&self, stamped: &Stamped) -> bool {
+        self.commands.get(self.replay) == Some(stamped)
+    }
+
+    /// Whether a single keyframe of `world` fits the budget at least eight times over: a
+    /// history worth keeping (a world too large for it should not keep one).
+    pub fn fits(world: &World, budget: usize) -> bool {
+        let s = world.state();
+        let n = s.bodies.len();
+        let bytes = std::mem::size_of::<State>()
+            + n * (crate::body::COLUMNS.len() + 5) * std::mem::size_of::<f64>();
+        bytes.saturating_mul(8) <= budget
+    }
+
     /// Whether the world at `tick` is behind the recorded future (after a seek back).
     pub fn is_rewound(&self, tick: u64) -> bool {
         tick < self.end || self.replay < self.commands.len()
@@ -240,9 +256,7 @@ impl TickObserver for Timeline {
     /// Logs a command; one the re-run of the recorded future applies again is recognised and
     /// not logged twice, and a new one behind the end drops the future after its tick.
     fn on_command(&mut self, _world: &World, stamped: &Stamped) -> Result<(), ObserverError> {
-        if let Some(next) = self.commands.get(self.replay)
-            && next == stamped
-        {
+        if self.is_recorded(stamped) {
             self.replay += 1;
             return Ok(());
         }

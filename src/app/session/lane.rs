@@ -44,11 +44,16 @@ pub struct AimNote {
 }
 
 impl Lane {
-    /// A lane running `sim`, drawn relative to `origin`.
-    pub(super) fn new(sim: SimLoop, origin: DVec3) -> Lane {
+    /// A lane running `sim`, drawn relative to `origin`, keeping a timeline of `budget` bytes
+    /// for rewinding if one is given (and a keyframe of its world fits it).
+    pub(super) fn new(sim: SimLoop, origin: DVec3, budget: Option<usize>) -> Lane {
         let stability = check_world(&sim.world);
+        let history = match budget {
+            Some(b) => TickHistory::with_timeline(&sim.world, origin, b),
+            None => TickHistory::new(&sim.world, origin),
+        };
         Lane {
-            history: TickHistory::new(&sim.world, origin),
+            history,
             warnings: stability.warnings(),
             stability,
             sim,

@@ -42,7 +42,8 @@ impl Session {
         self.embedded = true;
         sim.world.set_threads(self.threads);
         self.tune(&mut sim);
-        self.lanes = vec![Lane::new(sim, self.bounds.center())];
+        // A replay seeks in its file (`seek`), so the lane keeps no timeline of its own.
+        self.lanes = vec![Lane::new(sim, self.bounds.center(), None)];
         self.last = FrameTicks::default();
         self.last_error = None;
         self.replay = Some(replay);

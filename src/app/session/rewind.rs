@@ -1,0 +1,174 @@
+//! Rewinding a session: every lane seeks on its own timeline ([`crate::timeline`]) to the same
+//! tick; step back, jump to the start or the end, play backwards. In a replay the seek goes to
+//! the recording itself (its keyframes, then re-simulation, verified as it runs).
+//!
+//! After a seek back the ticks already run are the recorded future: playing forward replays
+//! them exactly (the timeline's commands are scheduled on the loop again). The first *new*
+//! command at an earlier tick (fire, launch, aim, integrator, reset) drops that future in every
+//! lane, and the panel says so. A recording running when the timeline moves ends there, with
+//! its footer, at the last tick it recorded (a recording's ticks only go forward); Record starts
+//! a new file from the tick the timeline is at.
+
+use std::time::Duration;
+
+use super::Session;
+
+impl Session {
+    /// Each lane's timeline budget (bytes).
+    pub fn history_budget(&self) -> usize {
+        self.history_budget
+    }
+
+    /// Sets each lane's timeline budget (bytes); the timelines start again at the current tick.
+    pub fn set_history_budget(&mut self, bytes: usize) {
+        self.history_budget = bytes;
+        for lane in &mut self.lanes {
+            if lane.history.timeline.is_some() || self.replay.is_none() {
+                lane.history.timeline = crate::timeline::Timeline::fits(&lane.sim.world, bytes)
+                    .then(|| crate::timeline::Timeline::new(&lane.sim.world, bytes));
+            }
+        }
+    }
+
+    /// The ticks the timeline covers: live, the history every lane holds (`None` when a lane
+    /// keeps none, its world being too large for the budget); in a replay, the recording's.
+    pub fn history_range(&self) -> Option<(u64, u64)> {
+        if let Some(replay) = &self.replay {
+            return Some((0, replay.end_tick()));
+        }
+        let mut range = (0, u64::MAX);
+        for lane in &self.lanes {
+            let t = lane.history.timeline.as_ref()?;
+            range = (range.0.max(t.start()), range.1.min(t.end()));
+        }
+        Some(range)
+    }
+
+    /// Moves every lane to `tick` (clamped to [`Session::history_range`]); the clocks keep
+    /// their pause and time scale. Errors go to the panel.
+    pub fn seek(&mut self, tick: u64) {
+        let Some((start, end)) = self.history_range() else {
+            self.last_error = Some(format!(
+                "no history to seek in: a keyframe of this world is over an eighth of the {} MiB \
+                 budget (--history-budget)",
+                self.history_budget >> 20
+            ));
+            return;
+        };
+        let tick = tick.clamp(start, end);
+        if tick == self.world().tick() {
+            return;
+        }
+        if let Some(replay) = &self.replay {
+            let path = replay.file().to_path_buf();
+            if let Err(e) = self.start_replay(&path, Some(tick)) {
+                self.last_error = Some(format!("seek: {e}"));
+            }
+            return;
+        }
+        if self.recording.is_some() {
+            self.stop_recording(&format!("the timeline moved to tick {tick}"));
+        }
+        for lane in &mut self.lanes {
+            let Some(timeline) = lane.history.timeline.as_mut() else {
+                continue;
+            };
+            if let Err(e) = timeline.seek(&mut lane.sim.world, tick) {
+                self.last_error = Some(format!("seek: {e}"));
+                continue;
+            }
+            lane.sim.clear_queued();
+            lane.sim
+                .schedule(timeline.commands_from(tick).iter().copied());
+            lane.sim.clock.set_tick(tick);
+            lane.stopped = lane.sim.world.divergence();
+            lane.history.after_seek(&lane.sim.world);
+            lane.pushed = lane.history.commands_applied() + lane.refused;
+            lane.refresh_stability();
+        }
+    }
+
+    /// Pauses and goes back one tick.
+    pub fn step_back(&mut self) {
+        self.set_paused(true);
+        self.reverse = None;
+        let tick = self.world().tick();
+        self.seek(tick.saturating_sub(1));
+    }
+
+    /// Pauses at the first tick held.
+    pub fn jump_to_start(&mut self) {
+        self.set_paused(true);
+        self.reverse = None;
+        if let Some((start, _)) = self.history_range() {
+            self.seek(start);
+        }
+    }
+
+    /// Goes to the last tick run (the end of the recorded future), paused.
+    pub fn jump_to_end(&mut self) {
+        self.set_paused(true);
+        self.reverse = None;
+        if let Some((_, end)) = self.history_range() {
+            self.seek(end);
+        }
+    }
+
+    /// Plays backwards (at the time scale) or stops doing so; playing backwards pauses the
+    /// forward clocks, and stops at the first tick held.
+    pub fn toggle_reverse(&mut self) {
+        if self.reverse.take().is_none() {
+            self.set_paused(true);
+            self.reverse = Some(Duration::ZERO);
+        }
+    }
+
+    /// Whether the session plays backwards.
+    pub fn is_reversing(&self) -> bool {
+        self.reverse.is_some()
+    }
+
+    /// A frame while playing backwards: the frame's delta, scaled, goes back in whole ticks.
+    /// Returns false (nothing done) when not playing backwards.
+    pub(super) fn reverse_frame(&mut self, delta: Duration) -> bool {
+        let Some(owed) = self.reverse else {
+            return false;
+        };
+        let scaled = Duration::from_secs_f64(delta.as_secs_f64() * self.clock.time_scale);
+        let owed = owed + scaled;
+        let step = self.scene.timestep;
+        let ticks = (owed.as_nanos() / step.as_nanos().max(1)) as u64;
+        let left = owed - step * ticks.min(u64::from(u32::MAX)) as u32;
+        let now = self.world().tick();
+        let start = self.history_range().map_or(now, |r| r.0);
+        let to = now.saturating_sub(ticks).max(start);
+        if to != now {
+            self.seek(to);
+        }
+        self.reverse = (to > start).then_some(left);
+        true
+    }
+
+    /// Before a new command: if the lanes are behind their recorded future, that future is
+    /// dropped (queued replays of it too), and the panel says from which tick.
+    pub(super) fn take_over_future(&mut self) {
+        let mut dropped = None;
+        for lane in &mut self.lanes {
+            let tick = lane.sim.world.tick();
+            let Some(timeline) = lane.history.timeline.as_mut() else {
+                continue;
+            };
+            if timeline.is_rewound(tick) {
+                lane.sim.clear_queued();
+                timeline.truncate(tick);
+                lane.pushed = lane.history.commands_applied() + lane.refused;
+                dropped = Some(tick);
+            }
+        }
+        if let Some(tick) = dropped {
+            self.timeline_note = Some(format!(
+                "a new command at tick {tick}: the recorded future after it was dropped"
+            ));
+        }
+    }
+}
