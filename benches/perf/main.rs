@@ -35,6 +35,8 @@ mod record;
 mod reference;
 mod report;
 mod scenes;
+#[path = "../common/splice.rs"]
+mod splice;
 mod step;
 mod tables;
 mod tick;

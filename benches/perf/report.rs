@@ -84,25 +84,10 @@ pub fn run(
         );
         return;
     }
-    match splice(&path, &md) {
+    match crate::splice::splice(&path, &md, BEGIN, END) {
         Ok(()) => eprintln!("wrote the results into {}", path.display()),
         Err(e) => eprintln!("cannot update {}: {e}", path.display()),
     }
-}
-
-/// Replaces the block between [`BEGIN`] and [`END`] in `path` (appending it if absent), leaving
-/// every other section of the file as it is.
-fn splice(path: &Path, block: &str) -> std::io::Result<()> {
-    let text = std::fs::read_to_string(path).unwrap_or_default();
-    let new = match (text.find(BEGIN), text.find(END)) {
-        (Some(b), Some(e)) if b < e => {
-            let after = e + END.len();
-            let rest = text[after..].strip_prefix('\n').unwrap_or(&text[after..]);
-            format!("{}{block}{rest}", &text[..b])
-        }
-        _ => format!("{text}\n{block}"),
-    };
-    std::fs::write(path, new)
 }
 
 /// The 1-, 5- and 15-minute load averages, as `uptime` prints them.

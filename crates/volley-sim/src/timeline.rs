@@ -24,8 +24,11 @@ use crate::world::{State, World};
 
 /// Default memory budget of one timeline (bytes): 64 MiB.
 pub const DEFAULT_BUDGET: usize = 64 << 20;
-/// Ticks between keyframes at the start.
-pub const FIRST_EVERY: u64 = 16;
+/// Ticks between keyframes at the start. A keyframe copies about 100 bytes a body, some tens of
+/// nanoseconds, while a tick costs a few nanoseconds a body: one every 64 ticks keeps the
+/// timeline's cost to about a tenth of the stepping's in the cheapest worlds, and a seek then
+/// re-simulates at most 64 ticks.
+pub const FIRST_EVERY: u64 = 64;
 /// Largest interval the thinning goes to (ticks): past it the oldest history is dropped, so a
 /// seek never re-simulates more than this many ticks.
 pub const MAX_EVERY: u64 = 4096;
@@ -81,7 +84,12 @@ pub struct Timeline {
     start: u64,
     end: u64,
     dropped_future: u64,
+    /// Keyframes thinned out, kept to take the next snapshots into without allocating.
+    spare: Vec<State>,
 }
+
+/// Thinned keyframes kept for reuse.
+const SPARE: usize = 4;
 
 /// Bytes a keyframe holds: the body columns, ids, inverse masses and carried forces.
 fn state_bytes(s: &State) -> usize {
@@ -94,8 +102,14 @@ fn state_bytes(s: &State) -> usize {
 const COMMAND_BYTES: usize = std::mem::size_of::<Stamped>();
 
 impl Timeline {
-    /// A timeline starting at the world's current tick, within `budget` bytes.
+    /// A timeline starting at the world's current tick, within `budget` bytes, a keyframe
+    /// every [`FIRST_EVERY`] ticks to begin with.
     pub fn new(world: &World, budget: usize) -> Timeline {
+        Timeline::with_interval(world, budget, FIRST_EVERY)
+    }
+
+    /// [`Timeline::new`] with a keyframe every `every` ticks (at least 1) to begin with.
+    pub fn with_interval(world: &World, budget: usize, every: u64) -> Timeline {
         let first = world.snapshot();
         Timeline {
             bytes: state_bytes(&first),
@@ -104,9 +118,10 @@ impl Timeline {
             keyframes: vec![first],
             commands: Vec::new(),
             replay: 0,
-            every: FIRST_EVERY,
+            every: every.max(1),
             budget,
             dropped_future: 0,
+            spare: Vec::new(),
         }
     }
 
@@ -230,15 +245,16 @@ impl Timeline {
             if self.every < MAX_EVERY {
                 self.every *= 2;
                 let (start, every) = (self.start, self.every);
-                let mut freed = 0;
-                self.keyframes.retain(|s| {
-                    let keep = (s.tick - start) % every == 0;
-                    if !keep {
-                        freed += state_bytes(s);
+                let (kept, thinned): (Vec<State>, Vec<State>) = std::mem::take(&mut self.keyframes)
+                    .into_iter()
+                    .partition(|s| (s.tick - start).is_multiple_of(every));
+                self.keyframes = kept;
+                for s in thinned {
+                    self.bytes -= state_bytes(&s);
+                    if self.spare.len() < SPARE {
+                        self.spare.push(s);
                     }
-                    keep
-                });
-                self.bytes -= freed;
+                }
             } else {
                 let old = self.keyframes.remove(0);
                 self.bytes -= state_bytes(&old);
@@ -283,7 +299,13 @@ impl TickObserver for Timeline {
         }
         self.end = tick;
         if (tick - self.start).is_multiple_of(self.every) {
-            let s = world.snapshot();
+            let s = match self.spare.pop() {
+                Some(mut s) => {
+                    world.snapshot_into(&mut s);
+                    s
+                }
+                None => world.snapshot(),
+            };
             self.bytes += state_bytes(&s);
             self.keyframes.push(s);
             self.keep_budget();
