@@ -48,7 +48,7 @@ impl TickObserver for Hashes<'_> {
         }
     }
     fn after_tick(&mut self, w: &World) -> Result<(), ObserverError> {
-        if w.tick() % 997 == 0 {
+        if w.tick().is_multiple_of(997) {
             self.at.push((w.tick(), state_hash(w)));
         }
         match self.timeline.as_mut() {
