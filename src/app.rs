@@ -77,6 +77,8 @@ pub struct WindowOptions {
     pub script: Vec<script::Step>,
     /// Each lane's timeline budget (bytes), [`crate::timeline::DEFAULT_BUDGET`] by default.
     pub history_budget: usize,
+    /// Ticks every lane runs before the window opens (`--warm-up-ticks`).
+    pub warm_up_ticks: u64,
 }
 
 /// Why the window could not run.
@@ -122,6 +124,8 @@ pub struct RunSummary {
     pub interval_ms: Option<f64>,
     /// Median time spent on a frame (ms): stepping, the panel, drawing, presenting.
     pub work_ms: Option<f64>,
+    /// Median CPU time of the UI in a frame (ms): the panel and plots laid out and tessellated.
+    pub ui_ms: Option<f64>,
     /// The recordings made in the window, oldest first (the last one ended when it closed).
     pub recordings: Vec<session::recording::FinishedRecording>,
     /// Where the last replay stood when it ended or the window closed.
@@ -216,6 +220,7 @@ pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummar
         // The first interval includes opening the window and the device.
         interval_ms: median(&mut app.timings.iter().skip(1).map(|t| t.0).collect()),
         work_ms: median(&mut app.timings.iter().map(|t| t.1).collect()),
+        ui_ms: median(&mut app.timings.iter().map(|t| t.2).collect()),
         recordings: app.session.recordings().to_vec(),
         replay: app.session.replay_verdict(),
         lanes: app
@@ -258,6 +263,7 @@ struct Toggles {
     trails: bool,
     ghosts: bool,
     panel: bool,
+    plots: bool,
 }
 
 struct App {
@@ -279,7 +285,9 @@ struct App {
     screenshot: Option<PathBuf>,
     last_frame: Instant,
     /// (interval, work) of each frame (ms), kept only when the run has a frame limit.
-    timings: Vec<(f64, f64)>,
+    timings: Vec<(f64, f64, f64)>,
+    /// The UI's CPU time of the frame being drawn (ms).
+    ui_ms: f64,
     /// Steps of `--surface-drill` done.
     drill_step: u8,
     /// The input script being played.
@@ -292,6 +300,9 @@ impl App {
     fn new(mut session: Session, options: WindowOptions) -> App {
         if options.history_budget != session.history_budget() {
             session.set_history_budget(options.history_budget);
+        }
+        if options.warm_up_ticks > 0 {
+            session.run_ticks(options.warm_up_ticks);
         }
         session.set_paused(options.paused);
         session.set_time_scale(options.time_scale);
@@ -311,6 +322,7 @@ impl App {
                 trails: true,
                 ghosts: true,
                 panel: true,
+                plots: true,
             },
             pointer: Pointer::default(),
             source,
@@ -323,6 +335,7 @@ impl App {
             screenshot: None,
             last_frame: Instant::now(),
             timings: Vec::new(),
+            ui_ms: 0.0,
             script,
             drill_step: 0,
             quit: false,
@@ -462,10 +475,12 @@ impl App {
         else {
             return;
         };
+        let ui_start = Instant::now();
         let raw = egui_state.take_egui_input(&window);
         let mut actions = Vec::new();
         let mut rest = egui::Rect::NOTHING;
         let show_panel = self.toggles.panel;
+        let show_plots = self.toggles.plots;
         let output = self.egui.run_ui(raw, |ui| {
             if show_panel {
                 egui::Panel::left("panel")
@@ -480,15 +495,29 @@ impl App {
                         )
                     });
             }
+            if show_plots {
+                egui::Panel::bottom("plots")
+                    .resizable(true)
+                    .default_size(240.0)
+                    .min_size(190.0)
+                    .show(ui, |ui| {
+                        let tab = &mut self.panel.plot_tab;
+                        panel::plots::show(ui, &self.session, tab, &mut actions)
+                    });
+            }
             rest = ui.available_rect_before_wrap();
             panel::overlay(ui.ctx(), rest, &self.session);
         });
         egui_state.handle_platform_output(&window, output.platform_output);
+        // The UI's time leaves out what its actions do (a seek, an aim): that is simulation.
+        let laid_out = ui_start.elapsed();
         for action in actions {
             self.apply(action);
         }
+        let tessellating = Instant::now();
         let ppp = output.pixels_per_point;
         let primitives = self.egui.tessellate(output.shapes, ppp);
+        self.ui_ms = (laid_out + tessellating.elapsed()).as_secs_f64() * 1e3;
         let mut textures = output.textures_delta;
         if let Some(gfx) = self.gfx.as_mut() {
             for (id, deltas) in textures.set.drain() {
@@ -528,8 +557,9 @@ impl App {
         let work = start.elapsed().as_secs_f64() * 1e3;
         self.stats.interval_ms = blend(self.stats.interval_ms, interval);
         self.stats.work_ms = blend(self.stats.work_ms, work);
+        self.stats.ui_ms = blend(self.stats.ui_ms, self.ui_ms);
         if self.options.exit_after_frames.is_some() {
-            self.timings.push((interval, work));
+            self.timings.push((interval, work, self.ui_ms));
         }
         let size = window.inner_size();
         self.stats.size = (size.width, size.height);

@@ -203,13 +203,150 @@ pub fn png(r: &StudyReport) -> Result<Vec<u8>, PlotError> {
         let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
         draw(root, r).map_err(PlotError::Draw)?;
     }
+    encode_png(&rgb, (w, h))
+}
+
+/// RGB bytes as a PNG.
+fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, PlotError> {
     let mut out = Vec::new();
     let mut encoder = png::Encoder::new(&mut out, w, h);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
     let encode = PlotError::Png;
     let mut writer = encoder.write_header().map_err(encode)?;
-    writer.write_image_data(&rgb).map_err(encode)?;
+    writer.write_image_data(rgb).map_err(encode)?;
     writer.finish().map_err(encode)?;
     Ok(out)
+}
+
+/// One lane of the window's live plots, for [`live_png`].
+#[derive(Clone, Debug)]
+pub struct LiveLane {
+    /// The lane's integrator (its colour).
+    pub integrator: Integrator,
+    /// Its series.
+    pub series: crate::render::series::LaneSeries,
+    /// Its work-precision point: (force evaluations per simulated second, largest error).
+    pub work_precision: Option<(f64, f64)>,
+}
+
+/// Size of the live plots' PNG.
+pub const LIVE_SIZE: (u32, u32) = (1500, 460);
+
+/// A series panel against sim time; with `log` the values are drawn as log10 and labelled
+/// as powers of ten.
+fn live_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    (title, y_desc): (&str, &str),
+    log: bool,
+    lanes: &[LiveLane],
+    pick: impl Fn(&crate::render::series::LaneSeries) -> &crate::render::series::Decimated,
+) -> Result<(), String> {
+    let e = |err: DrawingAreaErrorKind<DB::ErrorType>| err.to_string();
+    let f = |v: f64| {
+        if log {
+            libm::log10(v.max(ERROR_FLOOR))
+        } else {
+            v
+        }
+    };
+    let buckets = || lanes.iter().flat_map(|l| pick(&l.series).buckets().iter());
+    let t_max = buckets().map(|b| b.t).fold(0.0f64, f64::max).max(1e-3);
+    let (lo, hi) = buckets()
+        .flat_map(|b| [f(b.min), f(b.max)])
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            (l.min(v), h.max(v))
+        });
+    let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
+    let pad = 0.05 * (hi - lo).max(1e-12);
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..t_max, (lo - pad)..(hi + pad))
+        .map_err(e)?;
+    let power = |y: &f64| format!("1e{:.1}", y);
+    let plain = |y: &f64| format!("{y:.1e}");
+    chart
+        .configure_mesh()
+        .x_desc("sim time (s)")
+        .y_desc(y_desc)
+        .y_label_formatter(if log { &power } else { &plain })
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(e)?;
+    for lane in lanes {
+        let colour = color(lane.integrator);
+        let points = pick(&lane.series)
+            .buckets()
+            .iter()
+            .flat_map(|b| [(b.t, f(b.min)), (b.t, f(b.max))]);
+        chart
+            .draw_series(LineSeries::new(points, colour.stroke_width(2)))
+            .map_err(e)?
+            .label(lane.integrator.to_string())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+    }
+    chart
+        .configure_series_labels()
+        .label_font(("sans-serif", 13))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperLeft)
+        .draw()
+        .map_err(e)?;
+    Ok(())
+}
+
+fn draw_live<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    scene: &str,
+    lanes: &[LiveLane],
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let parts = root.split_evenly((1, 3));
+    let error_title = format!("{scene}: position error");
+    live_panel(
+        &parts[0],
+        (&error_title, "largest position error (m)"),
+        true,
+        lanes,
+        |s| &s.error_max,
+    )?;
+    live_panel(
+        &parts[1],
+        ("relative energy error", "(E - E0) / scale"),
+        false,
+        lanes,
+        |s| &s.energy,
+    )?;
+    let series: Series = lanes
+        .iter()
+        .filter_map(|l| {
+            l.work_precision
+                .map(|(x, y)| (l.integrator, vec![(x, y.max(ERROR_FLOOR))]))
+        })
+        .collect();
+    panel(
+        &parts[2],
+        "work-precision so far",
+        "force evaluations per simulated second",
+        &series,
+    )?;
+    root.present().map_err(|e| e.to_string())
+}
+
+/// The window's three live plots as PNG bytes.
+pub fn live_png(scene: &str, lanes: &[LiveLane]) -> Result<Vec<u8>, PlotError> {
+    register_font()?;
+    let (w, h) = LIVE_SIZE;
+    let mut rgb = vec![0u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, LIVE_SIZE).into_drawing_area();
+        draw_live(root, scene, lanes).map_err(PlotError::Draw)?;
+    }
+    encode_png(&rgb, (w, h))
 }

@@ -74,6 +74,14 @@ impl App {
             Action::ToggleTrails => self.toggles.trails = !self.toggles.trails,
             Action::ToggleGhosts => self.toggles.ghosts = !self.toggles.ghosts,
             Action::TogglePanel => self.toggles.panel = !self.toggles.panel,
+            Action::TogglePlots => self.toggles.plots = !self.toggles.plots,
+            Action::SavePlots => {
+                let dir = s.recordings_dir.clone();
+                s.plots_note = Some(match super::panel::plots::write(&dir, s) {
+                    Ok((csv, png)) => format!("saved {} and {}", csv.display(), png.display()),
+                    Err(e) => format!("could not save the plots: {e}"),
+                });
+            }
             Action::FrameScene => self.needs_framing = true,
             Action::Screenshot => {
                 let tick = s.world().tick();

@@ -77,6 +77,10 @@ pub enum Action {
     ToggleGhosts,
     /// Show or hide the panel.
     TogglePanel,
+    /// Show or hide the live plots.
+    TogglePlots,
+    /// Write the live plots' series (CSV) and picture (PNG).
+    SavePlots,
     /// Point the camera at the whole scene again.
     FrameScene,
     /// Save the window's next frame as a PNG in the working directory.
@@ -95,7 +99,7 @@ pub const DEFAULT_COMPARE: [Integrator; 4] = [
 ];
 
 /// Every keyboard shortcut, as (keys, what they do): listed in the panel and the README.
-pub const SHORTCUTS: [(&str, &str); 21] = [
+pub const SHORTCUTS: [(&str, &str); 22] = [
     ("Space", "pause / resume"),
     ("N or .", "single step (pauses)"),
     (",", "step back one tick (pauses)"),
@@ -127,6 +131,7 @@ pub const SHORTCUTS: [(&str, &str); 21] = [
     ("C", "compare mode on / off"),
     ("T and G", "trails, ghosts on / off"),
     ("H or F1", "panel on / off"),
+    ("K", "live plots on / off"),
     ("Home", "frame the scene"),
     ("P / Esc", "screenshot to ./volley-tickN.png / quit"),
 ];
@@ -175,6 +180,7 @@ pub fn action_for_key(key: &Key) -> Option<Action> {
             "t" => A::ToggleTrails,
             "g" => A::ToggleGhosts,
             "h" => A::TogglePanel,
+            "k" => A::TogglePlots,
             "p" => A::Screenshot,
             digit => {
                 let k = digit.parse::<usize>().ok()?;

@@ -4,6 +4,7 @@
 //! replay runs, the controls that would change the simulation are greyed out.
 
 mod alerts;
+pub mod plots;
 mod record;
 
 use std::path::PathBuf;
@@ -40,6 +41,8 @@ pub struct PanelState {
     pub compare_pick: Vec<Integrator>,
     /// The target the aim buttons aim at (index in the scene).
     pub aim_target: usize,
+    /// The plot shown when the window is too narrow for all three.
+    pub plot_tab: usize,
     /// A note on the scene file: watched, reloaded, or why a reload failed.
     pub file_note: Option<(String, bool)>,
     /// Bundled scenes, (name, path).
@@ -62,6 +65,7 @@ impl PanelState {
                 DEFAULT_COMPARE.to_vec()
             },
             aim_target: 0,
+            plot_tab: 0,
             file_note: None,
             scenes,
         };
@@ -87,6 +91,9 @@ pub struct FrameStats {
     pub interval_ms: f64,
     /// Time spent on a frame: stepping, building, encoding, presenting (ms), smoothed.
     pub work_ms: f64,
+    /// Of that, the UI's CPU work: laying out the panel and the plots (egui, egui_plot) and
+    /// tessellating them (ms), smoothed.
+    pub ui_ms: f64,
     /// Frames drawn.
     pub frames: u64,
     /// The adapter.
@@ -593,6 +600,9 @@ fn frame(ui: &mut Ui, stats: &FrameStats, out: &mut Vec<Action>) {
         }
         if ui.button("Ghosts").clicked() {
             out.push(Action::ToggleGhosts);
+        }
+        if ui.button("Plots").clicked() {
+            out.push(Action::TogglePlots);
         }
         if ui.button("Frame scene").clicked() {
             out.push(Action::FrameScene);

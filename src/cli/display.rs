@@ -49,6 +49,10 @@ pub struct DisplayArgs {
     /// frames apart, drawing on after each.
     #[arg(long)]
     pub surface_drill: bool,
+    /// Run this many ticks before the window opens (every lane, with its history, plots and
+    /// timeline), so a measurement or a demo starts with a long run behind it.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub warm_up_ticks: u64,
     /// Memory budget of each lane's timeline (MiB): keyframes and commands for rewinding.
     #[arg(long, value_name = "MIB", default_value_t = 64)]
     pub history_budget: u32,
@@ -70,6 +74,7 @@ impl Default for DisplayArgs {
             time_scale: 1.0,
             surface_drill: false,
             history_budget: 64,
+            warm_up_ticks: 0,
             script: None,
         }
     }
@@ -118,6 +123,7 @@ impl DisplayArgs {
             surface_drill: self.surface_drill,
             script,
             history_budget: (self.history_budget as usize) << 20,
+            warm_up_ticks: self.warm_up_ticks,
         })
     }
 }
@@ -141,13 +147,15 @@ pub fn report(display: &DisplayArgs, summary: &RunSummary) {
             println!("{lane}");
         }
     }
-    if let (Some(_), Some(interval), Some(work)) = (
+    if let (Some(_), Some(interval), Some(work), Some(ui)) = (
         display.exit_after_frames,
         summary.interval_ms,
         summary.work_ms,
+        summary.ui_ms,
     ) {
         println!(
-            "window: {} frames, median frame {interval:.2} ms, of which work {work:.2} ms, on {}",
+            "window: {} frames, median frame {interval:.2} ms, of which work {work:.2} ms \
+             (UI {ui:.2} ms), on {}",
             summary.frames, summary.adapter
         );
     }

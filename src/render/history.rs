@@ -13,6 +13,7 @@ use glam::DVec3;
 use crate::command::Stamped;
 use crate::contact::EventKind;
 use crate::render::reference::References;
+use crate::render::series::LaneSeries;
 use crate::render::trails::TrailRing;
 use crate::sim_loop::{ObserverError, TickObserver};
 use crate::timeline::Timeline;
@@ -138,6 +139,8 @@ pub struct TickHistory {
     /// The run's keyframes and commands for rewinding (the window's lanes keep one; a
     /// headless `--frames` run does not).
     pub timeline: Option<Timeline>,
+    /// The live plots' series, the whole run in bounded memory.
+    pub series: LaneSeries,
     origin: DVec3,
     commands: u64,
 }
@@ -152,6 +155,7 @@ impl TickHistory {
             references: References::default(),
             passes: TargetPasses::default(),
             timeline: None,
+            series: LaneSeries::default(),
             origin,
             commands: 0,
         };
@@ -232,7 +236,11 @@ impl TickObserver for TickHistory {
             self.commands += 1;
         }
         if let Some(t) = self.timeline.as_mut() {
+            let dropped = t.dropped_future();
             t.on_command(world, stamped)?;
+            if t.dropped_future() != dropped {
+                self.series.truncate(stamped.tick);
+            }
         }
         self.references.observe(world);
         Ok(())
@@ -253,6 +261,7 @@ impl TickObserver for TickHistory {
         self.trails.record(world);
         self.references.after_tick(world);
         self.passes.record(world);
+        self.series.sample(world, &self.references);
         if let Some(t) = self.timeline.as_mut() {
             t.after_tick(world)?;
         }

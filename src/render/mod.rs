@@ -19,6 +19,7 @@ pub mod history;
 pub mod pipelines;
 pub mod reference;
 pub mod renderer;
+pub mod series;
 pub mod trails;
 
 pub use bounds::SceneBounds;

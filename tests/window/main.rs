@@ -10,6 +10,7 @@ mod replay_support;
 mod render_golden;
 mod render_history;
 mod window_aim;
+mod window_plots;
 mod window_record_replay;
 mod window_rewind;
 mod window_session;

@@ -76,6 +76,16 @@ fn under_xvfb_with(
     env: &[(&str, &str)],
     args: &[&str],
 ) -> Option<std::process::Output> {
+    under_xvfb_sized(test, env, args, "640x400")
+}
+
+/// [`under_xvfb_with`] at window size `size` (WxH).
+pub(crate) fn under_xvfb_sized(
+    test: &str,
+    env: &[(&str, &str)],
+    args: &[&str],
+    size: &str,
+) -> Option<std::process::Output> {
     if !has("xvfb-run") {
         support::unavailable(test, "xvfb-run is not installed (apt-get install xvfb)");
         return None;
@@ -84,7 +94,7 @@ fn under_xvfb_with(
         .args(["120", "xvfb-run", "-a", "-s", "-screen 0 1600x1200x24"])
         .arg(env!("CARGO_BIN_EXE_volley"))
         .args(args)
-        .args(["--size", "640x400", "--frame-rate", "60"])
+        .args(["--size", size, "--frame-rate", "60"])
         .envs(env.iter().copied())
         .output()
         .expect("timeout and xvfb-run start");

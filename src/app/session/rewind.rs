@@ -88,6 +88,26 @@ impl Session {
         }
     }
 
+    /// Runs every lane `ticks` ticks ahead at once, through its observers (the timeline, the
+    /// plots, the passes), without drawing: `--warm-up-ticks`, so a window opens with history.
+    /// The clocks are left as they were, at the new tick. Not while replaying.
+    pub fn run_ticks(&mut self, ticks: u64) {
+        if self.refuse_while_replaying("warming up") {
+            return;
+        }
+        for lane in &mut self.lanes {
+            let saved = lane.sim.clock.clone();
+            let to = lane.sim.world.tick() + ticks;
+            let mut source = lane.sim.unpaced_source(64);
+            if let Err(e) = lane.sim.run_until(to, &mut source, &mut lane.history) {
+                self.last_error = Some(e.to_string());
+            }
+            lane.stopped = lane.sim.world.divergence();
+            lane.sim.clock = saved;
+            lane.sim.clock.set_tick(lane.sim.world.tick());
+        }
+    }
+
     /// Pauses and goes back one tick.
     pub fn step_back(&mut self) {
         self.set_paused(true);
@@ -161,6 +181,7 @@ impl Session {
             if timeline.is_rewound(tick) {
                 lane.sim.clear_queued();
                 timeline.truncate(tick);
+                lane.history.series.truncate(tick);
                 lane.pushed = lane.history.commands_applied() + lane.refused;
                 dropped = Some(tick);
             }

@@ -1,0 +1,291 @@
+//! The live plots (egui_plot), in a panel under the 3D view that `K` or the panel's checkbox
+//! shows and hides and its top edge resizes: one line per lane in its integrator's colour (the
+//! study plots' palette).
+//!
+//! - position error against sim time, log y: the largest over the first bodies as a min-max
+//!   band per time bucket (so spikes survive decimation), body 0 dashed;
+//! - relative energy error `(E - E0) / scale` against sim time;
+//! - live work-precision: force evaluations per simulated second against the largest position
+//!   error so far, one point per lane, both log: the study's diagram as the run goes.
+//!
+//! Hovering reads sim time and value. "Save plots" writes the series as CSV and the diagram as
+//! PNG ([`write`]).
+
+use std::path::{Path, PathBuf};
+
+use egui::{Color32, Ui};
+use egui_plot::{GridMark, Legend, Line, LineStyle, Plot, PlotPoints, Points};
+
+use crate::app::input::Action;
+use crate::app::session::{Lane, Session};
+use crate::render::series::{Decimated, LaneSeries};
+
+/// Values below this are drawn at it on the log axes (a log axis has no zero).
+const FLOOR: f64 = 1e-16;
+
+/// The work-precision point of a lane: (force evaluations per simulated second, the largest
+/// position error so far), if it has run and has an error.
+pub fn work_precision(lane: &Lane) -> Option<(f64, f64)> {
+    let world = &lane.sim.world;
+    let elapsed = world.tick() as f64 * world.dt();
+    let error = lane.history.series.error_max.max()?;
+    (elapsed > 0.0).then(|| (world.force_evals() as f64 / elapsed, error))
+}
+
+fn log10(x: f64) -> f64 {
+    libm::log10(x.max(FLOOR))
+}
+
+/// `1e-3` style labels for an axis that holds log10 values.
+fn power_label(mark: GridMark, _range: &std::ops::RangeInclusive<f64>) -> String {
+    let v = mark.value;
+    if (v - v.round()).abs() < 1e-9 {
+        format!("1e{}", v.round() as i64)
+    } else {
+        String::new()
+    }
+}
+
+/// Points per line drawn: about one per pixel column of a plot a third of the window wide.
+const DISPLAY_POINTS: usize = 400;
+
+/// The min-max band of a series as its two edges, (upper, lower), at most [`DISPLAY_POINTS`]
+/// points each: two thin lines cost the software rasteriser far less than a filled band or a
+/// zig-zag through every bucket.
+fn band(series: &Decimated, log: bool) -> (Vec<[f64; 2]>, Vec<[f64; 2]>) {
+    let f = |v: f64| if log { log10(v) } else { v };
+    let shown = series.for_display(DISPLAY_POINTS);
+    let upper = shown.iter().map(|&(t, _, hi)| [t, f(hi)]).collect();
+    let lower = shown.iter().map(|&(t, lo, _)| [t, f(lo)]).collect();
+    (upper, lower)
+}
+
+/// Both edges of a band as lines of one name and colour (the lower one thinner).
+fn band_lines<'a>(
+    plot: &mut egui_plot::PlotUi<'a>,
+    name: &str,
+    colour: Color32,
+    edges: (Vec<[f64; 2]>, Vec<[f64; 2]>),
+    style: LineStyle,
+) {
+    let (upper, lower) = edges;
+    plot.line(
+        Line::new(name, PlotPoints::from(upper))
+            .color(colour)
+            .style(style),
+    );
+    plot.line(
+        Line::new(name, PlotPoints::from(lower))
+            .color(colour.gamma_multiply(0.6))
+            .style(style)
+            .width(1.0),
+    );
+}
+
+fn colour(lane: &Lane) -> Color32 {
+    let [r, g, b, _] = lane.colour();
+    Color32::from_rgb(r, g, b)
+}
+
+/// Narrower than this the plots take turns (tabs) instead of sitting side by side.
+const SIDE_BY_SIDE: f32 = 720.0;
+
+/// Draws the plots, three side by side (or one at a time, picked by `tab`, in a narrow window),
+/// with the save button above them.
+pub fn show(ui: &mut Ui, session: &Session, tab: &mut usize, out: &mut Vec<Action>) {
+    let narrow = ui.available_width() < SIDE_BY_SIDE;
+    ui.horizontal(|ui| {
+        ui.strong("Plots");
+        if ui
+            .button("Save plots")
+            .on_hover_text("CSV of the series and a PNG of the plots")
+            .clicked()
+        {
+            out.push(Action::SavePlots);
+        }
+        if narrow {
+            for (k, name) in ["error", "energy", "work-precision"]
+                .into_iter()
+                .enumerate()
+            {
+                ui.selectable_value(tab, k, name);
+            }
+        }
+        match &session.plots_note {
+            Some(note) => ui.weak(note),
+            None => ui.weak("lane colours as above, body 0 dashed; hover reads t and the value"),
+        };
+    });
+    // The panel's height less the row above: the panel is as tall as what it holds, so the
+    // plots follow its resize handle, never below a readable 150 px.
+    let height = (ui.max_rect().height() - 30.0).max(150.0);
+    let lanes = session.lanes();
+    if narrow {
+        match *tab {
+            0 => error_plot(ui, lanes, height),
+            1 => energy_plot(ui, lanes, height),
+            _ => work_precision_plot(ui, lanes, height),
+        }
+    } else {
+        ui.columns(3, |cols| {
+            error_plot(&mut cols[0], lanes, height);
+            energy_plot(&mut cols[1], lanes, height);
+            work_precision_plot(&mut cols[2], lanes, height);
+        });
+    }
+}
+
+fn error_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
+    Plot::new("error")
+        .height(height)
+        .x_axis_label("sim time (s)")
+        .y_axis_label("position error (m)")
+        .y_axis_formatter(power_label)
+        .y_grid_spacer(egui_plot::log_grid_spacer(10))
+        .label_formatter(|pos| hover(pos, "m", true))
+        .show(ui, |plot| {
+            for lane in lanes {
+                let name = lane.sim.world.integrator().name();
+                let s: &LaneSeries = &lane.history.series;
+                band_lines(
+                    plot,
+                    name,
+                    colour(lane),
+                    band(&s.error_max, true),
+                    LineStyle::Solid,
+                );
+                let (first, _) = band(&s.error_first, true);
+                plot.line(
+                    Line::new(format!("{name}, body 0"), PlotPoints::from(first))
+                        .color(colour(lane))
+                        .style(LineStyle::dashed_loose())
+                        .width(1.0),
+                );
+            }
+        });
+}
+
+fn energy_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
+    Plot::new("energy")
+        .height(height)
+        .x_axis_label("sim time (s)")
+        .y_axis_label("(E - E0) / scale")
+        .label_formatter(|pos| hover(pos, "", false))
+        .show(ui, |plot| {
+            for lane in lanes {
+                let name = lane.sim.world.integrator().name();
+                let edges = band(&lane.history.series.energy, false);
+                band_lines(plot, name, colour(lane), edges, LineStyle::Solid);
+            }
+        });
+}
+
+fn work_precision_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
+    Plot::new("work-precision")
+        .height(height)
+        .legend(Legend::default().position(egui_plot::Corner::RightTop))
+        .x_axis_label("force evaluations per sim second")
+        .y_axis_label("max error so far (m)")
+        .x_axis_formatter(power_label)
+        .y_axis_formatter(power_label)
+        .x_grid_spacer(egui_plot::log_grid_spacer(10))
+        .y_grid_spacer(egui_plot::log_grid_spacer(10))
+        .label_formatter(|pos| match pos {
+            egui_plot::HoverPosition::NearDataPoint {
+                plot_name,
+                position,
+                ..
+            } => Some(format!(
+                "{plot_name}\n{:.3e} evaluations/s\n{:.3e} m",
+                10f64.powf(position.x),
+                10f64.powf(position.y)
+            )),
+            _ => None,
+        })
+        .show(ui, |plot| {
+            for lane in lanes {
+                let Some((x, y)) = work_precision(lane) else {
+                    continue;
+                };
+                let name = lane.sim.world.integrator().name();
+                plot.points(
+                    Points::new(name, PlotPoints::from(vec![[log10(x), log10(y)]]))
+                        .color(colour(lane))
+                        .radius(5.0)
+                        .filled(true),
+                );
+            }
+        });
+}
+
+/// The hover text: sim time and the value (a log10 value shown as its power).
+fn hover(pos: &egui_plot::HoverPosition<'_>, unit: &str, log: bool) -> Option<String> {
+    let egui_plot::HoverPosition::NearDataPoint {
+        plot_name,
+        position,
+        ..
+    } = pos
+    else {
+        return None;
+    };
+    let v = if log {
+        10f64.powf(position.y)
+    } else {
+        position.y
+    };
+    Some(format!(
+        "{plot_name}\nt = {:.4} s\n{v:.4e} {unit}",
+        position.x
+    ))
+}
+
+/// Writes every lane's series as CSV (`lane,series,tick,t,min,max`, a row per bucket, and a
+/// `work-precision` row per lane) and the three plots as a PNG, as `DIR/plots-SCENE-tickN`.
+/// Returns the two paths.
+pub fn write(dir: &Path, session: &Session) -> Result<(PathBuf, PathBuf), String> {
+    let world = session.world();
+    let stem = format!(
+        "plots-{}-tick{}",
+        session.scene().name.replace(' ', "_"),
+        world.tick()
+    );
+    let (csv, png) = (
+        dir.join(format!("{stem}.csv")),
+        dir.join(format!("{stem}.png")),
+    );
+    let mut text = String::from("lane,series,tick,t,min,max\n");
+    let mut lanes = Vec::new();
+    for lane in session.lanes() {
+        let name = lane.sim.world.integrator().name();
+        let s = &lane.history.series;
+        for (series, data) in [
+            ("error_max", &s.error_max),
+            ("error_body0", &s.error_first),
+            ("energy", &s.energy),
+        ] {
+            for b in data.buckets() {
+                text += &format!(
+                    "{name},{series},{},{:e},{:e},{:e}\n",
+                    b.tick, b.t, b.min, b.max
+                );
+            }
+        }
+        if let Some((x, y)) = work_precision(lane) {
+            text += &format!("{name},work-precision,{},{x:e},{y:e},{y:e}\n", world.tick());
+        }
+        lanes.push(crate::plot::LiveLane {
+            integrator: lane.sim.world.integrator(),
+            series: s.clone(),
+            work_precision: work_precision(lane),
+        });
+    }
+    if let Some(parent) = csv.parent()
+        && !parent.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+    }
+    std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
+    let bytes = crate::plot::live_png(&session.scene().name, &lanes).map_err(|e| e.to_string())?;
+    std::fs::write(&png, bytes).map_err(|e| format!("{}: {e}", png.display()))?;
+    Ok((csv, png))
+}
