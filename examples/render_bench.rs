@@ -84,6 +84,9 @@ fn measure(
         trails: true,
         ghosts: true,
         aim: None,
+        markers: false,
+        vectors: None,
+        highlight: None,
     };
     let spheres_only = DrawOptions {
         trails: false,

@@ -17,6 +17,7 @@ mod control;
 mod frame;
 pub mod input;
 pub mod panel;
+mod pick;
 pub mod script;
 pub mod session;
 pub mod surface;
@@ -132,6 +133,8 @@ pub struct RunSummary {
     pub replay: Option<session::replaying::ReplayVerdict>,
     /// Each lane as the window closed: for tests and scripted demos.
     pub lanes: Vec<LaneReport>,
+    /// What the probe read when the window closed, if it was on something.
+    pub probe: Option<Vec<String>>,
 }
 
 /// A lane as the window closed.
@@ -223,6 +226,7 @@ pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummar
         ui_ms: median(&mut app.timings.iter().map(|t| t.2).collect()),
         recordings: app.session.recordings().to_vec(),
         replay: app.session.replay_verdict(),
+        probe: app.probe.as_ref().map(|p| p.lines()),
         lanes: app
             .session
             .lanes()
@@ -254,6 +258,8 @@ fn os_reason(e: &dyn std::fmt::Display) -> String {
 struct Pointer {
     position: Option<(f64, f64)>,
     dragging: Option<MouseButton>,
+    /// The button held has moved the pointer (a drag, not a click).
+    moved: bool,
     shift: bool,
 }
 
@@ -264,6 +270,8 @@ struct Toggles {
     ghosts: bool,
     panel: bool,
     plots: bool,
+    markers: bool,
+    vectors: bool,
 }
 
 struct App {
@@ -292,6 +300,10 @@ struct App {
     drill_step: u8,
     /// The input script being played.
     script: script::Player,
+    /// What the probe reads: under the pointer, or pinned by a click.
+    probe: Option<crate::render::probe::Probe>,
+    /// The probe stays where it was clicked until the next click.
+    probe_pinned: bool,
     quit: bool,
     outcome: Result<(), AppError>,
 }
@@ -323,6 +335,8 @@ impl App {
                 ghosts: true,
                 panel: true,
                 plots: true,
+                markers: true,
+                vectors: false,
             },
             pointer: Pointer::default(),
             source,
@@ -336,6 +350,8 @@ impl App {
             last_frame: Instant::now(),
             timings: Vec::new(),
             ui_ms: 0.0,
+            probe: None,
+            probe_pinned: false,
             script,
             drill_step: 0,
             quit: false,
@@ -476,6 +492,23 @@ impl App {
             return;
         };
         let ui_start = Instant::now();
+        if !self.probe_pinned {
+            let over_view = self.pointer.position.is_some_and(|(x, y)| {
+                let v = &self.viewport;
+                let (x, y) = (x as f32, y as f32);
+                x >= v.x && x < v.x + v.width && y >= v.y && y < v.y + v.height
+            });
+            self.probe = match self.pointer.position {
+                Some((x, y)) if over_view && self.pointer.dragging.is_none() => pick::pick(
+                    &self.session,
+                    &self.camera,
+                    &self.viewport,
+                    (x as f32, y as f32),
+                    pick::PICK_RADIUS * self.stats.scale.max(1.0) as f32,
+                ),
+                _ => None,
+            };
+        }
         let raw = egui_state.take_egui_input(&window);
         let mut actions = Vec::new();
         let mut rest = egui::Rect::NOTHING;
@@ -507,6 +540,11 @@ impl App {
             }
             rest = ui.available_rect_before_wrap();
             panel::overlay(ui.ctx(), rest, &self.session);
+            if let (Some(probe), Some((x, y))) = (&self.probe, self.pointer.position) {
+                let ppp = ui.ctx().pixels_per_point();
+                let at = egui::pos2(x as f32 / ppp + 16.0, y as f32 / ppp + 16.0);
+                panel::probe_box(ui.ctx(), at, probe, self.probe_pinned);
+            }
         });
         egui_state.handle_platform_output(&window, output.platform_output);
         // The UI's time leaves out what its actions do (a seek, an aim): that is simulation.

@@ -75,6 +75,18 @@ impl App {
             Action::ToggleGhosts => self.toggles.ghosts = !self.toggles.ghosts,
             Action::TogglePanel => self.toggles.panel = !self.toggles.panel,
             Action::TogglePlots => self.toggles.plots = !self.toggles.plots,
+            Action::ToggleMarkers => self.toggles.markers = !self.toggles.markers,
+            Action::ToggleVectors => self.toggles.vectors = !self.toggles.vectors,
+            Action::HoverBody(n) => {
+                let at = super::pick::body_on_screen(s, &self.camera, &self.viewport, n);
+                self.hover_script(at, format!("hover body {n}"));
+            }
+            Action::HoverMarker(kind) => {
+                let at = super::pick::marker_on_screen(s, &self.camera, &self.viewport, kind);
+                let name = super::pick::marker_name(kind);
+                self.hover_script(at, format!("hover marker ({name})"));
+            }
+            Action::PinProbe => self.probe_pinned = self.probe.is_some() && !self.probe_pinned,
             Action::SavePlots => {
                 let dir = s.recordings_dir.clone();
                 s.plots_note = Some(match super::panel::plots::write(&dir, s) {
@@ -111,19 +123,37 @@ impl App {
         }
     }
 
+    /// A script's hover: the pointer goes to `at`, or the panel says it could not.
+    fn hover_script(&mut self, at: Option<(f32, f32)>, what: String) {
+        match at {
+            Some((x, y)) => self.pointer.position = Some((f64::from(x), f64::from(y))),
+            None => self.session.last_error = Some(format!("{what}: nothing there to hover")),
+        }
+    }
+
     pub(super) fn on_pointer(&mut self, event: &WindowEvent, over_ui: bool) {
         match *event {
             WindowEvent::ModifiersChanged(m) => self.pointer.shift = m.state().shift_key(),
             WindowEvent::MouseInput { state, button, .. } => {
+                // A left click that did not drag pins (or unpins) the probe.
+                if state == ElementState::Released
+                    && button == MouseButton::Left
+                    && !self.pointer.moved
+                    && self.pointer.dragging.is_some()
+                {
+                    self.apply(Action::PinProbe);
+                }
                 self.pointer.dragging = match state {
                     ElementState::Pressed if !over_ui => Some(button),
                     _ => None,
                 };
+                self.pointer.moved = false;
             }
             WindowEvent::CursorMoved { position, .. } => {
                 let now = (position.x, position.y);
                 if let (Some(button), Some(last)) = (self.pointer.dragging, self.pointer.position) {
                     let (dx, dy) = (now.0 - last.0, now.1 - last.1);
+                    self.pointer.moved |= dx.abs() + dy.abs() > 2.0;
                     let orbit = button == MouseButton::Left && !self.pointer.shift;
                     if orbit {
                         // Degrees per logical pixel, the same feel at any HiDPI scale.

@@ -88,6 +88,11 @@ impl App {
             trails: self.toggles.trails,
             ghosts: self.toggles.ghosts,
             aim,
+            markers: self.toggles.markers,
+            vectors: self.toggles.vectors.then(|| {
+                crate::render::draw::ArrowScale::of(self.session.world(), bounds.radius())
+            }),
+            highlight: self.probe.as_ref().map(|p| p.at.p),
         };
         let view = View {
             camera: self.camera,

@@ -79,6 +79,16 @@ pub enum Action {
     TogglePanel,
     /// Show or hide the live plots.
     TogglePlots,
+    /// Show or hide the markers (0.1 s, 1 s, apex, impacts) on the first bodies' paths.
+    ToggleMarkers,
+    /// Show or hide the velocity and force arrows on the first bodies.
+    ToggleVectors,
+    /// Put the pointer on lane 0's body N (input scripts: `hover body N`).
+    HoverBody(usize),
+    /// Put the pointer on lane 0's body 0's last marker of a kind (`hover marker KIND`).
+    HoverMarker(crate::render::probe::MarkerKind),
+    /// Pin the probe where it is, or unpin it (a click on the 3D view; `pin`).
+    PinProbe,
     /// Write the live plots' series (CSV) and picture (PNG).
     SavePlots,
     /// Point the camera at the whole scene again.
@@ -99,7 +109,7 @@ pub const DEFAULT_COMPARE: [Integrator; 4] = [
 ];
 
 /// Every keyboard shortcut, as (keys, what they do): listed in the panel and the README.
-pub const SHORTCUTS: [(&str, &str); 22] = [
+pub const SHORTCUTS: [(&str, &str); 24] = [
     ("Space", "pause / resume"),
     ("N or .", "single step (pauses)"),
     (",", "step back one tick (pauses)"),
@@ -132,6 +142,8 @@ pub const SHORTCUTS: [(&str, &str); 22] = [
     ("T and G", "trails, ghosts on / off"),
     ("H or F1", "panel on / off"),
     ("K", "live plots on / off"),
+    ("M", "markers (0.1 s, 1 s, apex, impacts) on / off"),
+    ("Y", "velocity and force arrows on / off"),
     ("Home", "frame the scene"),
     ("P / Esc", "screenshot to ./volley-tickN.png / quit"),
 ];
@@ -181,6 +193,8 @@ pub fn action_for_key(key: &Key) -> Option<Action> {
             "g" => A::ToggleGhosts,
             "h" => A::TogglePanel,
             "k" => A::TogglePlots,
+            "m" => A::ToggleMarkers,
+            "y" => A::ToggleVectors,
             "p" => A::Screenshot,
             digit => {
                 let k = digit.parse::<usize>().ok()?;

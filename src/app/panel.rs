@@ -109,6 +109,30 @@ fn colour(c: [u8; 4]) -> Color32 {
     Color32::from_rgb(c[0], c[1], c[2])
 }
 
+/// The probe's readout in a small window at `at` (points), pinned or following the pointer.
+pub fn probe_box(
+    ctx: &egui::Context,
+    at: egui::Pos2,
+    probe: &crate::render::probe::Probe,
+    pinned: bool,
+) {
+    egui::Area::new(egui::Id::unique("volley probe"))
+        .fixed_pos(at)
+        .order(egui::Order::Tooltip)
+        .show(ctx, |ui| {
+            egui::Frame::popup(ui.style()).show(ui, |ui| {
+                for line in probe.lines() {
+                    ui.monospace(line);
+                }
+                ui.weak(if pinned {
+                    "pinned: click the view to release"
+                } else {
+                    "click to pin"
+                });
+            });
+        });
+}
+
 /// Draws the panel's contents.
 pub fn show(
     ui: &mut Ui,

@@ -9,6 +9,9 @@
 //! key shift+a      # Shift+A: the low arc
 //! key space        # named keys: space, up, down, left, right, pageup, pagedown, home, end,
 //!                  # backspace, f1, escape
+//! hover body 0     # the pointer on lane 0's body 0: the probe reads it
+//! hover marker apex  # on body 0's last marker of a kind: tenth, second, apex, impact
+//! pin              # pin the probe there (a click on the 3D view)
 //! ```
 //!
 //! A key goes through the same mapping as a real key press ([`input::action_for_key`]), so a
@@ -106,6 +109,17 @@ pub fn parse(text: &str, file: &str) -> Result<Vec<Step>, ScriptError> {
             column: column(word),
             message,
         };
+        if verb == "hover" {
+            steps.push(hover_step(words.next(), words.next(), verb, &error)?);
+            continue;
+        }
+        if verb == "pin" {
+            if let Some(extra) = words.next() {
+                return Err(error(extra, "`pin` takes no argument".into()));
+            }
+            steps.push(Step::Key(Action::PinProbe, "pin".into()));
+            continue;
+        }
         let arg = words.next();
         if let Some(extra) = words.next() {
             return Err(error(extra, format!("`{verb}` takes one argument")));
@@ -142,13 +156,48 @@ pub fn parse(text: &str, file: &str) -> Result<Vec<Step>, ScriptError> {
             _ => {
                 return Err(error(
                     verb,
-                    format!("expected `wait N` or `key NAME`, got `{verb}`"),
+                    format!(
+                        "expected `wait N`, `key NAME`, `hover body N`, `hover marker KIND` or \
+                         `pin`, got `{verb}`"
+                    ),
                 ));
             }
         };
         steps.push(step);
     }
     Ok(steps)
+}
+
+/// `hover body N` or `hover marker KIND`.
+fn hover_step(
+    what: Option<&str>,
+    arg: Option<&str>,
+    verb: &str,
+    error: &dyn Fn(&str, String) -> ScriptError,
+) -> Result<Step, ScriptError> {
+    use crate::render::probe::MarkerKind as K;
+    let expected = "expected `hover body N` or `hover marker tenth|second|apex|impact`";
+    match (what, arg) {
+        (Some("body"), Some(n)) => n
+            .parse::<usize>()
+            .map(|n| Step::Key(Action::HoverBody(n), format!("hover body {n}")))
+            .map_err(|_| error(n, format!("hover body: expected a body index, got `{n}`"))),
+        (Some("marker"), Some(kind)) => {
+            let kind_of = match kind {
+                "tenth" => K::Tenth,
+                "second" => K::Second,
+                "apex" => K::Apex,
+                "impact" => K::Impact,
+                _ => return Err(error(kind, format!("{expected}, got `{kind}`"))),
+            };
+            Ok(Step::Key(
+                Action::HoverMarker(kind_of),
+                format!("hover marker {kind}"),
+            ))
+        }
+        (Some(w), _) => Err(error(w, format!("{expected}, got `{w}`"))),
+        (None, _) => Err(error(verb, expected.to_string())),
+    }
 }
 
 /// A script being played: where it is and how many frames it still waits.

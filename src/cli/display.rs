@@ -146,6 +146,9 @@ pub fn report(display: &DisplayArgs, summary: &RunSummary) {
         for lane in &summary.lanes {
             println!("{lane}");
         }
+        if let Some(lines) = &summary.probe {
+            println!("probe: {}", lines.join("; "));
+        }
     }
     if let (Some(_), Some(interval), Some(work), Some(ui)) = (
         display.exit_after_frames,

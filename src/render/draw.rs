@@ -83,7 +83,57 @@ pub struct DrawOptions {
     /// Draw the launcher with this aim instead of the world's: the aim of a `launch` command
     /// still queued (while paused), which the next `fire` will use.
     pub aim: Option<Launcher>,
+    /// Markers on the first bodies' paths: every 0.1 s and 1 s, the apex, impacts
+    /// ([`crate::render::probe`]).
+    pub markers: bool,
+    /// Velocity and net-force arrows on the first bodies, at these scales.
+    pub vectors: Option<ArrowScale>,
+    /// A point to ring (the probe's): a larger translucent white sphere there.
+    pub highlight: Option<DVec3>,
 }
+
+/// How long the arrows are drawn: metres of arrow per m/s of velocity and per newton of force.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArrowScale {
+    /// Metres of arrow per m/s.
+    pub velocity: f64,
+    /// Metres of arrow per newton.
+    pub force: f64,
+}
+
+impl ArrowScale {
+    /// Scales for `world` in a scene of size `scale` (m): the launcher's speed and the weight
+    /// of its shot (or 1 N without gravity) each drawn 8 % of the scene long, rounded down to
+    /// 1, 2 or 5 times a power of ten so the panel can state them plainly.
+    pub fn of(world: &World, scale: f64) -> ArrowScale {
+        let l = world.launcher();
+        let speed = l.speed.max(1.0);
+        let g = world.forces().gravity.map_or(0.0, DVec3::length);
+        let weight = (l.mass * g).max(1.0);
+        let nice = |x: f64| {
+            let p = libm::pow(10.0, libm::floor(libm::log10(x)));
+            let m = x / p;
+            p * if m >= 5.0 {
+                5.0
+            } else if m >= 2.0 {
+                2.0
+            } else {
+                1.0
+            }
+        };
+        ArrowScale {
+            velocity: nice(0.08 * scale / speed),
+            force: nice(0.08 * scale / weight),
+        }
+    }
+}
+
+/// Colour of apex markers.
+pub const APEX: Rgba = [250, 250, 255, 255];
+/// Colour of impact markers.
+pub const IMPACT: Rgba = [255, 220, 60, 255];
+/// Colour of net-force arrows.
+pub const FORCE: Rgba = [255, 90, 200, 255];
 
 /// The arrays of one frame; kept between frames so their allocations are reused.
 #[derive(Clone, Debug, Default)]
@@ -130,6 +180,73 @@ impl DrawList {
         }
         if options.ghosts {
             self.ghosts(first, options);
+        }
+        for lane in lanes {
+            if options.markers {
+                self.markers(lane, options);
+            }
+            if let Some(scale) = options.vectors {
+                self.vectors(lane, scale, options);
+            }
+        }
+        if let Some(p) = options.highlight {
+            self.translucent.push(SphereInstance {
+                center: rel(p, options.origin),
+                radius: (0.012 * options.scale) as f32,
+                colour: [255, 255, 255, 110],
+            });
+        }
+    }
+
+    /// The markers of a lane's first bodies as small spheres: tenths dim, seconds in the
+    /// lane's colour and twice the size, apexes white, impacts yellow.
+    fn markers(&mut self, lane: &Lane<'_>, options: &DrawOptions) {
+        use crate::render::probe::MarkerKind as K;
+        let small = (0.0025 * options.scale) as f32;
+        let mut dim = lane.colour;
+        dim[3] = 255;
+        let dim = [dim[0] / 2 + 60, dim[1] / 2 + 60, dim[2] / 2 + 60, 255];
+        for track in lane.history.probe.tracks() {
+            for m in &track.markers {
+                let (radius, colour) = match m.kind {
+                    K::Tenth => (small, dim),
+                    K::Second => (2.0 * small, lane.colour),
+                    K::Apex => (2.5 * small, APEX),
+                    K::Impact => (2.5 * small, IMPACT),
+                };
+                self.solid.push(SphereInstance {
+                    center: rel(m.at.p, options.origin),
+                    radius,
+                    colour,
+                });
+            }
+        }
+    }
+
+    /// Velocity (the lane's colour) and net force (magenta) arrows from the first bodies.
+    fn vectors(&mut self, lane: &Lane<'_>, scale: ArrowScale, options: &DrawOptions) {
+        let world = lane.world;
+        let n = world.bodies().len().min(crate::render::probe::PROBE_BODIES);
+        for i in 0..n {
+            let p = world.bodies().state(i).p;
+            self.arrow(p, scale.velocity * world.velocity(i), lane.colour, options);
+            self.arrow(p, scale.force * world.force_on(i), FORCE, options);
+        }
+    }
+
+    /// A line from `from` along `d`, with a two-stroke head a fifth of its length.
+    fn arrow(&mut self, from: DVec3, d: DVec3, colour: Rgba, options: &DrawOptions) {
+        let len = d.length();
+        if !(len > 0.0 && len.is_finite()) {
+            return;
+        }
+        let tip = from + d;
+        self.line(from, tip, colour, options.origin);
+        let dir = d / len;
+        let side = dir.cross(DVec3::Z).try_normalize().unwrap_or(DVec3::X);
+        for s in [-1.0, 1.0] {
+            let back = tip - 0.2 * len * dir + s * 0.08 * len * side;
+            self.line(tip, back, colour, options.origin);
         }
     }
 
@@ -338,6 +455,9 @@ mod tests {
             trails: false,
             ghosts: false,
             aim: None,
+            markers: false,
+            vectors: None,
+            highlight: None,
         };
         let mut list = DrawList::default();
         list.build(&[lane], &options);

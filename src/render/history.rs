@@ -12,6 +12,7 @@ use glam::DVec3;
 
 use crate::command::Stamped;
 use crate::contact::EventKind;
+use crate::render::probe::ProbeHistory;
 use crate::render::reference::References;
 use crate::render::series::LaneSeries;
 use crate::render::trails::TrailRing;
@@ -141,6 +142,8 @@ pub struct TickHistory {
     pub timeline: Option<Timeline>,
     /// The live plots' series, the whole run in bounded memory.
     pub series: LaneSeries,
+    /// The first bodies' recent states and markers, for the probe and the markers.
+    pub probe: ProbeHistory,
     origin: DVec3,
     commands: u64,
 }
@@ -156,6 +159,7 @@ impl TickHistory {
             passes: TargetPasses::default(),
             timeline: None,
             series: LaneSeries::default(),
+            probe: ProbeHistory::default(),
             origin,
             commands: 0,
         };
@@ -181,6 +185,7 @@ impl TickHistory {
         self.previous.copy_from(world);
         self.trails = TrailRing::new(self.origin);
         self.trails.record(world);
+        self.probe.after_seek();
     }
 
     /// Commands the loop has applied so far (a replay of the recorded future after a seek is
@@ -262,6 +267,7 @@ impl TickObserver for TickHistory {
         self.references.after_tick(world);
         self.passes.record(world);
         self.series.sample(world, &self.references);
+        self.probe.record(world, &self.references);
         if let Some(t) = self.timeline.as_mut() {
             t.after_tick(world)?;
         }

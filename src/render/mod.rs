@@ -17,6 +17,7 @@ pub mod draw;
 pub mod gpu;
 pub mod history;
 pub mod pipelines;
+pub mod probe;
 pub mod reference;
 pub mod renderer;
 pub mod series;

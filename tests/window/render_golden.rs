@@ -84,6 +84,9 @@ fn the_seed_scene_at_tick_10_matches_its_golden_image() {
         trails: true,
         ghosts: true,
         aim: None,
+        markers: false,
+        vectors: None,
+        highlight: None,
     };
     let camera = OrbitCamera::framing(&bounds, 480.0 / 270.0);
     let image = draw(&gpu, &sim.world, &history, camera, &options, size);
@@ -149,6 +152,9 @@ fn a_body_at_a_known_world_position_lands_on_the_expected_pixel() {
         trails: false,
         ghosts: false,
         aim: None,
+        markers: false,
+        vectors: None,
+        highlight: None,
     };
     let size = (200, 100);
     let image = draw(
@@ -234,6 +240,9 @@ fn frames_reuse_their_buffers_and_draw_every_lane_in_one_instance_list() {
         trails: true,
         ghosts: true,
         aim: None,
+        markers: false,
+        vectors: None,
+        highlight: None,
     };
     let mut allocations = Vec::new();
     for tick in 1..=20 {

@@ -1,0 +1,95 @@
+//! Picking what is under the pointer for the probe: a lane's first bodies, their recent path
+//! and their markers, nearest in screen space within a few pixels.
+
+use crate::app::session::Session;
+use crate::render::probe::{MarkerKind, Probe, Sample, Track};
+use crate::render::{OrbitCamera, Viewport};
+
+/// How near the pointer (physical px) a point must be to be picked.
+pub const PICK_RADIUS: f32 = 12.0;
+
+/// The nearest body, path sample or marker to `at` (physical px) within `radius`, read as a
+/// probe; markers win ties over the path, bodies over both.
+pub fn pick(
+    session: &Session,
+    camera: &OrbitCamera,
+    viewport: &Viewport,
+    at: (f32, f32),
+    radius: f32,
+) -> Option<Probe> {
+    let mut best: Option<(f32, usize, &Track, &'static str, Sample)> = None;
+    for (k, lane) in session.lanes().iter().enumerate() {
+        let world = &lane.sim.world;
+        for track in lane.history.probe.tracks() {
+            let mut consider = |what: &'static str, s: Sample, bias: f32| {
+                let Some(px) = camera.project(s.p, viewport) else {
+                    return;
+                };
+                let d = ((px.x - at.0).powi(2) + (px.y - at.1).powi(2)).sqrt() - bias;
+                if d <= radius && best.as_ref().is_none_or(|b| d < b.0) {
+                    best = Some((d, k, track, what, s));
+                }
+            };
+            if let Some(i) = world.bodies().index_of(track.id) {
+                let now = Sample {
+                    tick: world.tick(),
+                    t: world.time(),
+                    p: world.bodies().state(i).p,
+                    v: world.velocity(i),
+                };
+                consider("body", now, 2.0);
+            }
+            for m in &track.markers {
+                consider(marker_name(m.kind), m.at, 1.0);
+            }
+            for s in &track.samples {
+                consider("trail", *s, 0.0);
+            }
+        }
+    }
+    let (_, k, track, what, s) = best?;
+    let lane = &session.lanes()[k];
+    let name = lane.sim.world.integrator().name();
+    Some(Probe::read(
+        name,
+        &lane.sim.world,
+        track,
+        what,
+        s,
+        &lane.history.references,
+    ))
+}
+
+/// The script's and the probe's name of a marker kind.
+pub fn marker_name(kind: MarkerKind) -> &'static str {
+    match kind {
+        MarkerKind::Tenth => "0.1 s marker",
+        MarkerKind::Second => "1 s marker",
+        MarkerKind::Apex => "apex",
+        MarkerKind::Impact => "impact",
+    }
+}
+
+/// Where (physical px) lane 0's body `n` is drawn now, for the script's `hover body N`.
+pub fn body_on_screen(
+    session: &Session,
+    camera: &OrbitCamera,
+    viewport: &Viewport,
+    n: usize,
+) -> Option<(f32, f32)> {
+    let world = session.world();
+    let p = world.bodies().positions().iter().nth(n)?;
+    camera.project(p, viewport).map(|v| (v.x, v.y))
+}
+
+/// Where lane 0's body 0's last marker of `kind` is drawn, for `hover marker KIND`.
+pub fn marker_on_screen(
+    session: &Session,
+    camera: &OrbitCamera,
+    viewport: &Viewport,
+    kind: MarkerKind,
+) -> Option<(f32, f32)> {
+    let track = session.lanes()[0].history.probe.tracks().first()?;
+    let m = track.markers.iter().rev().find(|m| m.kind == kind)?;
+    camera.project(m.at.p, viewport).map(|v| (v.x, v.y))
+}

@@ -1,0 +1,194 @@
+//! Markers, the probe and the arrows: PhET's dots every 0.1 s and 1 s, at the apex and at each
+//! impact, where the motion puts them; the probe's readout; velocity and force arrows to scale;
+//! and the real window driven by a script to hover and pin the probe under Xvfb.
+
+use crate::support;
+
+use glam::DVec3;
+
+use volley::app::session::Session;
+use volley::render::draw::{ArrowScale, DrawList, DrawOptions, Lane};
+use volley::render::probe::{MarkerKind, Probe};
+use volley::{Integrator, scene};
+
+fn session(name: &str, compare: Vec<Integrator>) -> Session {
+    let path = support::crate_path(&format!("assets/scenes/{name}.ron"));
+    Session::new(scene::load(&path).unwrap(), &path, compare)
+}
+
+#[test]
+fn markers_fall_every_tenth_and_second_at_the_apex_and_at_each_impact() {
+    // The seed under RK4 (exact under constant gravity) at h = 0.2 s: the shot spends about
+    // 5.4 s in the air from t = 5 s and then bounces.
+    let mut s = session("seed", vec![Integrator::Rk4]);
+    s.run_ticks(40);
+    let track = &s.lanes()[0].history.probe.tracks()[0];
+    let count = |k: MarkerKind| track.markers.iter().filter(|m| m.kind == k).count();
+    // 40 ticks of 0.2 s: 8 s, so marks at 0.1 .. 8.0 s: 80, of which 8 whole seconds.
+    assert_eq!(count(MarkerKind::Tenth) + count(MarkerKind::Second), 80);
+    assert_eq!(count(MarkerKind::Second), 8);
+    for m in track
+        .markers
+        .iter()
+        .filter(|m| m.kind == MarkerKind::Second)
+    {
+        let since = m.at.t - track.spawn_time;
+        assert!((since - since.round()).abs() < 1e-9, "{since}");
+    }
+    // The apex: vz is linear in t under constant gravity, so the interpolated zero is the
+    // exact apex time vz0 / g after launch (29.0000 m/s at 9.81 m/s^2), to rounding.
+    let apex = track
+        .markers
+        .iter()
+        .find(|m| m.kind == MarkerKind::Apex)
+        .unwrap();
+    let vz0 = 72.5001 / 2.5;
+    assert!(
+        (apex.at.t - track.spawn_time - vz0 / 9.81).abs() < 1e-4,
+        "{:?}",
+        apex.at
+    );
+    assert_eq!(apex.at.v.z, 0.0);
+    // Then it hits the ground: one impact marker per bounce, where its centre touches the
+    // ground (z = its 0.1 m radius), to within gravity over the rest of the step, g h^2 / 2.
+    assert!(count(MarkerKind::Impact) >= 1);
+    let hit = track
+        .markers
+        .iter()
+        .find(|m| m.kind == MarkerKind::Impact)
+        .unwrap();
+    assert!(
+        (hit.at.p.z - 0.1).abs() <= 9.81 * 0.04 / 2.0,
+        "{:?}",
+        hit.at
+    );
+}
+
+#[test]
+fn the_probe_reads_state_energy_and_error_at_a_marker() {
+    let mut s = session("seed", vec![Integrator::ExplicitEuler]);
+    s.run_ticks(20);
+    let lane = &s.lanes()[0];
+    let track = &lane.history.probe.tracks()[0];
+    let apex = track
+        .markers
+        .iter()
+        .find(|m| m.kind == MarkerKind::Apex)
+        .unwrap();
+    let probe = Probe::read(
+        "explicit-euler",
+        &lane.sim.world,
+        track,
+        "apex",
+        apex.at,
+        &lane.history.references,
+    );
+    // E = m |V|^2 / 2 + m g z at the apex.
+    let want = 0.5 * 2.5 * apex.at.v.length_squared() + 2.5 * 9.81 * apex.at.p.z;
+    assert!(
+        (probe.energy - want).abs() < 1e-9 * want,
+        "{} vs {want}",
+        probe.energy
+    );
+    // Explicit Euler at 0.2 s is off the closed form by about g h t / 2 there (t ~ 3 s).
+    let error = probe.error.unwrap();
+    assert!(error > 1.0 && error < 5.0, "{error}");
+    let lines = probe.lines();
+    assert_eq!(lines[0], format!("explicit-euler body {} (apex)", track.id));
+    assert!(lines[5].starts_with("|p - p_exact| = "));
+}
+
+#[test]
+fn arrows_are_the_velocity_and_the_net_force_to_the_stated_scale() {
+    let s = session("seed", Vec::new());
+    let world = s.world();
+    let lane = Lane {
+        world,
+        history: &s.lanes()[0].history,
+        alpha: 1.0,
+        colour: [255, 0, 0, 255],
+    };
+    let scale = ArrowScale::of(world, 40.0);
+    // 8 % of 40 m over 30 m/s is 0.107 m per m/s: 0.1 after rounding down to 1, 2 or 5.
+    assert_eq!(scale.velocity, 0.1);
+    let options = |vectors| DrawOptions {
+        origin: DVec3::ZERO,
+        scale: 40.0,
+        trails: false,
+        ghosts: false,
+        aim: None,
+        markers: false,
+        vectors,
+        highlight: None,
+    };
+    let (mut without, mut with) = (DrawList::default(), DrawList::default());
+    without.build(&[lane], &options(None));
+    with.build(&[lane], &options(Some(scale)));
+    // One body: two arrows of three strokes each, two vertices a stroke.
+    assert_eq!(with.lines.len() - without.lines.len(), 12);
+    let shaft = &with.lines[without.lines.len()..][..2];
+    let d = DVec3::from(shaft[1].position.map(f64::from))
+        - DVec3::from(shaft[0].position.map(f64::from));
+    let v = world.velocity(0);
+    assert!(
+        (d - scale.velocity * v).length() < 1e-5,
+        "{d} vs {}",
+        scale.velocity * v
+    );
+}
+
+#[test]
+fn a_script_hovers_and_pins_the_probe_on_an_apex_in_the_real_window() {
+    let test = "a_script_hovers_and_pins_the_probe_on_an_apex_in_the_real_window";
+    let dir = support::scratch_dir(test);
+    let script = dir.join("probe.script");
+    std::fs::write(
+        &script,
+        "wait 45\nhover marker apex\nwait 2\npin\nwait 10\n",
+    )
+    .unwrap();
+    let shot = dir.join("probe.png");
+    let args = [
+        "window",
+        "seed",
+        "--compare",
+        "explicit-euler,rk4",
+        "--script",
+        script.to_str().unwrap(),
+        "--time-scale",
+        "4",
+        "--exit-after-frames",
+        "60",
+        "--no-watch",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ];
+    let Some(out) = crate::window_smoke::under_xvfb_sized(test, &[], &args, "1280x800") else {
+        return;
+    };
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let probe = stdout
+        .lines()
+        .find(|l| l.starts_with("probe: "))
+        .unwrap_or_else(|| panic!("no probe line: {stdout}"));
+    // Pinned on lane 0's (explicit Euler's) apex: vertical speed 0 there, and its error.
+    assert!(probe.contains("explicit-euler body 0 (apex)"), "{probe}");
+    assert!(
+        probe.contains("V = (7.6810, 0.0000, 0.0000) m/s"),
+        "{probe}"
+    );
+    assert!(probe.contains("|p - p_exact| = "), "{probe}");
+    let image = volley::render::Image::load_png(&shot).unwrap();
+    // The probe's box is drawn: a run of its light text somewhere right of the side panel.
+    let light = image
+        .rgba
+        .chunks(4)
+        .filter(|p| p[0] > 200 && p[1] > 200 && p[2] > 200)
+        .count();
+    assert!(light > 500, "{light}");
+}
