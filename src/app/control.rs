@@ -87,9 +87,16 @@ impl App {
                 self.hover_script(at, format!("hover marker ({name})"));
             }
             Action::PinProbe => self.probe_pinned = self.probe.is_some() && !self.probe_pinned,
+            Action::SaveSetup => {
+                let dir = s.recordings_dir.clone();
+                s.saved_note = Some(match s.save_setup(&dir) {
+                    Ok(path) => format!("saved the setup to {}", path.display()),
+                    Err(e) => format!("could not save the setup: {e}"),
+                });
+            }
             Action::SavePlots => {
                 let dir = s.recordings_dir.clone();
-                s.plots_note = Some(match super::panel::plots::write(&dir, s) {
+                s.saved_note = Some(match super::panel::plots::write(&dir, s) {
                     Ok((csv, png)) => format!("saved {} and {}", csv.display(), png.display()),
                     Err(e) => format!("could not save the plots: {e}"),
                 });

@@ -91,6 +91,9 @@ pub enum Action {
     PinProbe,
     /// Write the live plots' series (CSV) and picture (PNG).
     SavePlots,
+    /// Write the setup (scene, launcher, targets, integrator, step, compare lanes) as a scene
+    /// file.
+    SaveSetup,
     /// Point the camera at the whole scene again.
     FrameScene,
     /// Save the window's next frame as a PNG in the working directory.

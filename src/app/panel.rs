@@ -415,6 +415,18 @@ fn simulation(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut 
         if ui.button("Reset").clicked() {
             out.push(Action::Reset);
         }
+        if ui
+            .button("Save setup")
+            .on_hover_text("the scene with this launcher, integrator, step and compare lanes")
+            .clicked()
+        {
+            out.push(Action::SaveSetup);
+        }
+    });
+    ui.horizontal(|ui| {
+        if let Some(note) = &session.saved_note {
+            ui.weak(note);
+        }
     });
     aim(ui, state, session, out);
 }

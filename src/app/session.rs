@@ -110,8 +110,8 @@ pub struct Session {
     reverse: Option<Duration>,
     /// What the last seek did to a recording or the recorded future, for the panel.
     pub timeline_note: Option<String>,
-    /// Where the last "Save plots" wrote, or why it could not.
-    pub plots_note: Option<String>,
+    /// Where the last "Save plots" or "Save setup" wrote, or why it could not.
+    pub saved_note: Option<String>,
 }
 
 impl Session {
@@ -143,7 +143,7 @@ impl Session {
             history_budget: crate::timeline::DEFAULT_BUDGET,
             reverse: None,
             timeline_note: None,
-            plots_note: None,
+            saved_note: None,
         };
         session.build_lanes();
         session

@@ -86,7 +86,8 @@ pub fn run(args: &WindowArgs) -> Result<(), Failure> {
     let (path, scene) = load_scene(&args.scene, &args.overrides)?;
     let compare = match &args.compare {
         Some(list) => parse_compare(list)?,
-        None => Vec::new(),
+        // A saved setup opens in its own compare lanes.
+        None => scene.compare.clone(),
     };
     let options = WindowOptions {
         compare,

@@ -15,4 +15,5 @@ mod window_probe;
 mod window_record_replay;
 mod window_rewind;
 mod window_session;
+mod window_setup;
 mod window_smoke;

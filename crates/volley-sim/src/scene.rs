@@ -64,9 +64,86 @@ pub struct Scene {
     pub seed: u64,
     /// Divergence guard settings.
     pub guard: Guard,
+    /// Integrators the window opens in compare mode (empty: one lane); headless runs ignore
+    /// it and step [`Scene::integrator`].
+    pub compare: Vec<Integrator>,
 }
 
 impl Scene {
+    /// The scene as a scene file that parses back to it: every force term, surface, target
+    /// and body (launches as velocities), the launcher, the volley, the seed, the guard and the
+    /// compare lanes. What the window's "Save setup" writes; `parse` of it gives a scene that
+    /// steps to the same bits.
+    pub fn to_ron(&self) -> String {
+        let f = &self.forces;
+        let mut forces = Vec::new();
+        if let Some(g) = f.gravity {
+            forces.push(ForceTerm::Gravity(g));
+        }
+        if let Some(c) = f.constant {
+            forces.push(ForceTerm::ConstantForce(c));
+        }
+        if let Some(b) = f.linear_drag {
+            forces.push(ForceTerm::LinearDrag(b));
+        }
+        if let Some(c) = f.quadratic_drag {
+            forces.push(ForceTerm::QuadraticDrag(c));
+        }
+        if let Some(sp) = f.spring {
+            forces.push(ForceTerm::Spring {
+                anchor: sp.anchor,
+                stiffness: sp.stiffness,
+                rest_length: sp.rest_length,
+                damping: sp.damping,
+            });
+        }
+        if let Some(pm) = f.point_mass {
+            forces.push(ForceTerm::PointMass {
+                center: pm.center,
+                mu: pm.mu,
+            });
+        }
+        let raw = RawScene {
+            name: Some(self.name.clone()),
+            description: self.description.clone(),
+            dt: self.dt(),
+            start_time: self.start_time,
+            duration: self.duration,
+            integrator: self.integrator,
+            substeps: self.substeps,
+            forces,
+            ground: self.ground,
+            walls: self.walls.clone(),
+            targets: self.targets.clone(),
+            detection: self.detection,
+            bodies: self
+                .bodies
+                .iter()
+                .map(|b| RawBody {
+                    mass: b.mass,
+                    radius: b.radius,
+                    position: b.position,
+                    launch: Launch::Velocity(b.velocity),
+                })
+                .collect(),
+            launcher: Some(self.launcher),
+            volley: self.volley,
+            seed: self.seed,
+            guard: self.guard,
+            compare: self.compare.clone(),
+        };
+        let config = ron::ser::PrettyConfig::new()
+            .struct_names(true)
+            .extensions(ron::extensions::Extensions::IMPLICIT_SOME);
+        let body = ron::ser::to_string_pretty(&raw, config)
+            .unwrap_or_else(|e| format!("// could not write the scene: {e}\n"));
+        format!(
+            "// Written by Volley's \"Save setup\": the scene `{}` as set up in the window (its\n\
+             // launcher, targets, integrator, step and compare lanes), bodies as launch\n\
+             // velocities. `volley window FILE` and `volley headless FILE` open it.\n{body}\n",
+            self.name
+        )
+    }
     /// Overrides the integrator, refusing `exact` where a declared force has no closed form.
     pub fn set_integrator(&mut self, integrator: Integrator) -> Result<(), IntegratorError> {
         check_integrator(integrator, &self.forces)?;
@@ -235,7 +312,7 @@ impl std::fmt::Display for SceneError {
 impl std::error::Error for SceneError {}
 
 /// One force term as written in a scene file.
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
 enum ForceTerm {
     Gravity(DVec3),
     ConstantForce(DVec3),
@@ -269,7 +346,7 @@ impl ForceTerm {
 }
 
 /// A launch as written in a scene file.
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
 enum Launch {
     Velocity(DVec3),
     Angles {
@@ -285,7 +362,7 @@ enum Launch {
     },
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, serde::Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawBody {
     mass: f64,
@@ -300,7 +377,7 @@ fn at_rest() -> Launch {
     Launch::Velocity(DVec3::ZERO)
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, serde::Serialize, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Scene")]
 struct RawScene {
     #[serde(default)]
@@ -335,6 +412,8 @@ struct RawScene {
     seed: u64,
     #[serde(default)]
     guard: Guard,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    compare: Vec<Integrator>,
 }
 
 fn one_u32() -> u32 {
@@ -553,6 +632,10 @@ fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Inva
     let forces = validate_forces(&raw.forces)?;
     check_integrator(integrator, &forces)
         .map_err(|e| invalid("integrator", ValueProblem::Integrator(e)))?;
+    for (i, &lane) in raw.compare.iter().enumerate() {
+        check_integrator(lane, &forces)
+            .map_err(|e| invalid(format!("compare[{i}]"), ValueProblem::Integrator(e)))?;
+    }
     let ground = raw
         .ground
         .map(|g| -> Result<Ground, InvalidValue> {
@@ -608,6 +691,7 @@ fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Inva
         ground,
         walls,
         targets: raw.targets,
+        compare: raw.compare,
         detection: raw.detection,
         bodies,
         launcher,

@@ -111,7 +111,7 @@ pub fn show(ui: &mut Ui, session: &Session, tab: &mut usize, out: &mut Vec<Actio
                 ui.selectable_value(tab, k, name);
             }
         }
-        match &session.plots_note {
+        match &session.saved_note {
             Some(note) => ui.weak(note),
             None => ui.weak("lane colours as above, body 0 dashed; hover reads t and the value"),
         };

@@ -108,6 +108,29 @@ impl Session {
         }
     }
 
+    /// The setup as a scene: the scene with the first lane's launcher, integrator and force
+    /// terms as they are now, the current dt and substeps, and the compare lanes. Its bodies
+    /// and volley are the scene's own (a setup is where a run starts, not where it got to).
+    pub fn setup(&self) -> crate::scene::Scene {
+        let world = self.world();
+        let mut scene = self.scene.clone();
+        scene.launcher = *world.launcher();
+        scene.integrator = world.integrator();
+        scene.compare = self.compare.clone();
+        scene
+    }
+
+    /// Writes [`Session::setup`] as `DIR/setups/SCENE-tickN.ron` and returns the path.
+    pub fn save_setup(&self, dir: &std::path::Path) -> Result<std::path::PathBuf, String> {
+        let setup = self.setup();
+        let folder = dir.join("setups");
+        std::fs::create_dir_all(&folder).map_err(|e| format!("{}: {e}", folder.display()))?;
+        let name = setup.name.replace([' ', '/'], "_");
+        let path = folder.join(format!("{name}-tick{}.ron", self.world().tick()));
+        std::fs::write(&path, setup.to_ron()).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(path)
+    }
+
     /// Pauses and goes back one tick.
     pub fn step_back(&mut self) {
         self.set_paused(true);
