@@ -20,6 +20,7 @@ pub mod panel;
 mod pick;
 pub mod script;
 pub mod session;
+pub mod setup_drag;
 pub mod surface;
 pub mod watch;
 
@@ -150,6 +151,10 @@ pub struct LaneReport {
     pub passes: Vec<crate::render::history::Pass>,
     /// Its last aim.
     pub aim: Option<session::AimNote>,
+    /// Its launcher.
+    pub launcher: crate::scene::Launcher,
+    /// The targets' centres now.
+    pub targets: Vec<glam::DVec3>,
 }
 
 impl std::fmt::Display for LaneReport {
@@ -162,6 +167,16 @@ impl std::fmt::Display for LaneReport {
             self.tick,
             self.bodies
         )?;
+        let l = &self.launcher;
+        write!(
+            f,
+            "\n  launcher at ({:.4}, {:.4}, {:.4}), speed {:.4} m/s, elevation {:.4} deg, azimuth \
+             {:.4} deg",
+            l.position.x, l.position.y, l.position.z, l.speed, l.elevation_deg, l.azimuth_deg
+        )?;
+        for (i, c) in self.targets.iter().enumerate() {
+            write!(f, "\n  target {i} at ({:.4}, {:.4}, {:.4})", c.x, c.y, c.z)?;
+        }
         if let Some(note) = &self.aim {
             match &note.outcome {
                 Ok(s) => write!(
@@ -237,6 +252,16 @@ pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummar
                 bodies: l.sim.world.bodies().len(),
                 passes: l.history.passes.all().to_vec(),
                 aim: l.aim.clone(),
+                launcher: *l.sim.world.launcher(),
+                targets: {
+                    let w = &l.sim.world;
+                    let since = w.tick() as f64 * w.dt();
+                    w.contacts()
+                        .targets
+                        .iter()
+                        .map(|t| t.center_at(since))
+                        .collect()
+                },
             })
             .collect(),
     })
@@ -304,6 +329,8 @@ struct App {
     probe: Option<crate::render::probe::Probe>,
     /// The probe stays where it was clicked until the next click.
     probe_pinned: bool,
+    /// A drag of the launcher, its handle or a target under way.
+    setup_drag: Option<setup_drag::SetupDrag>,
     quit: bool,
     outcome: Result<(), AppError>,
 }
@@ -352,6 +379,7 @@ impl App {
             ui_ms: 0.0,
             probe: None,
             probe_pinned: false,
+            setup_drag: None,
             script,
             drill_step: 0,
             quit: false,

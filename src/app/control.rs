@@ -1,5 +1,6 @@
 //! Input to actions, actions to commands: the one place the window changes a simulation.
 
+use super::setup_drag::{Grab, Preview, SetupDrag};
 use std::path::PathBuf;
 
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
@@ -87,6 +88,7 @@ impl App {
                 self.hover_script(at, format!("hover marker ({name})"));
             }
             Action::PinProbe => self.probe_pinned = self.probe.is_some() && !self.probe_pinned,
+            Action::Drag(grab, dx, dy) => self.scripted_drag(grab, dx, dy),
             Action::SaveSetup => {
                 let dir = s.recordings_dir.clone();
                 s.saved_note = Some(match s.save_setup(&dir) {
@@ -130,6 +132,91 @@ impl App {
         }
     }
 
+    /// Where `grab` is drawn now (physical px).
+    fn grab_position(&self, grab: Grab) -> Option<glam::Vec2> {
+        let world = self.session.world();
+        let l = world.launcher();
+        let p = match grab {
+            Grab::Launcher => l.position,
+            Grab::Handle => super::setup_drag::handle_tip(l, self.session.bounds().radius()),
+            Grab::Target(i) => world
+                .contacts()
+                .targets
+                .get(i)?
+                .center_at(world.tick() as f64 * world.dt()),
+        };
+        self.camera.project(p, &self.viewport)
+    }
+
+    /// A script's drag: press on `grab`, move by (dx, dy), release.
+    fn scripted_drag(&mut self, grab: Grab, dx: f32, dy: f32) {
+        let Some(start) = self.grab_position(grab) else {
+            self.session.last_error = Some(format!("drag {grab:?}: it is not in view"));
+            return;
+        };
+        let world = self.session.world();
+        let mut drag = SetupDrag::begin(grab, start, *world.launcher(), &world.contacts().targets);
+        drag.update(
+            &self.camera,
+            &self.viewport,
+            start + glam::Vec2::new(dx, dy),
+        );
+        self.setup_drag = Some(drag);
+        self.end_setup_drag();
+    }
+
+    /// Ends a drag: the launcher's change as a `launch` command, a target's as a setup change.
+    fn end_setup_drag(&mut self) {
+        let Some(drag) = self.setup_drag.take() else {
+            return;
+        };
+        match drag.preview {
+            Preview::Target(i, at) => {
+                self.session.move_target(i, at);
+                self.panel.sync(&self.session);
+            }
+            Preview::Launcher(_) => {
+                if let Some(command) = drag.command() {
+                    self.session.push(command);
+                }
+            }
+        }
+    }
+
+    /// The drag's preview of the launcher, for drawing.
+    pub(super) fn dragged_launcher(&self) -> Option<crate::scene::Launcher> {
+        match self.setup_drag?.preview {
+            Preview::Launcher(l) => Some(l),
+            Preview::Target(..) => None,
+        }
+    }
+
+    /// The drag's preview of a target's place, for drawing.
+    pub(super) fn dragged_target(&self) -> Option<glam::DVec3> {
+        match self.setup_drag?.preview {
+            Preview::Target(_, at) => Some(at),
+            Preview::Launcher(_) => None,
+        }
+    }
+
+    /// What a press at the pointer would grab (live runs only).
+    fn grab_under_pointer(&self) -> Option<Grab> {
+        let (x, y) = self.pointer.position?;
+        if self.session.replay().is_some() {
+            return None;
+        }
+        let world = self.session.world();
+        super::setup_drag::grab_at(
+            &self.camera,
+            &self.viewport,
+            glam::Vec2::new(x as f32, y as f32),
+            world.launcher(),
+            &world.contacts().targets,
+            self.session.bounds().radius(),
+            world.tick() as f64 * world.dt(),
+        )
+    }
+
     /// A script's hover: the pointer goes to `at`, or the panel says it could not.
     fn hover_script(&mut self, at: Option<(f32, f32)>, what: String) {
         match at {
@@ -141,6 +228,39 @@ impl App {
     pub(super) fn on_pointer(&mut self, event: &WindowEvent, over_ui: bool) {
         match *event {
             WindowEvent::ModifiersChanged(m) => self.pointer.shift = m.state().shift_key(),
+            WindowEvent::MouseInput { state, button, .. }
+                if button == MouseButton::Left
+                    && state == ElementState::Released
+                    && self.setup_drag.is_some() =>
+            {
+                self.end_setup_drag();
+                self.pointer.dragging = None;
+            }
+            WindowEvent::MouseInput { state, button, .. }
+                if button == MouseButton::Left
+                    && state == ElementState::Pressed
+                    && !over_ui
+                    && !self.pointer.shift
+                    && self.grab_under_pointer().is_some() =>
+            {
+                if let (Some(grab), Some((x, y))) =
+                    (self.grab_under_pointer(), self.pointer.position)
+                {
+                    let world = self.session.world();
+                    let start = glam::Vec2::new(x as f32, y as f32);
+                    let targets = &world.contacts().targets;
+                    self.setup_drag =
+                        Some(SetupDrag::begin(grab, start, *world.launcher(), targets));
+                }
+            }
+            WindowEvent::CursorMoved { position, .. } if self.setup_drag.is_some() => {
+                let px = glam::Vec2::new(position.x as f32, position.y as f32);
+                let (camera, viewport) = (self.camera, self.viewport);
+                if let Some(drag) = self.setup_drag.as_mut() {
+                    drag.update(&camera, &viewport, px);
+                }
+                self.pointer.position = Some((position.x, position.y));
+            }
             WindowEvent::MouseInput { state, button, .. } => {
                 // A left click that did not drag pins (or unpins) the probe.
                 if state == ElementState::Released

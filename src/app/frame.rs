@@ -69,6 +69,7 @@ impl App {
 
     /// Draws the scene and the panel into `target` (the surface, or a capture of it).
     fn draw(&mut self, target: &wgpu::TextureView, ui: &FrameUi<'_>) {
+        let (dragged, ring) = (self.dragged_launcher(), self.dragged_target());
         let Some(gfx) = self.gfx.as_mut() else {
             return;
         };
@@ -76,12 +77,14 @@ impl App {
         let bounds = self.session.bounds();
         // While commands wait for the next tick (paused), the launcher shows the panel's aim.
         let waiting = self.session.lanes().iter().any(|l| l.pending() > 0);
-        let aim = waiting.then(|| crate::scene::Launcher {
+        let queued = waiting.then(|| crate::scene::Launcher {
             speed: self.panel.speed,
             elevation_deg: self.panel.elevation_deg,
             azimuth_deg: self.panel.azimuth_deg,
             ..*self.session.world().launcher()
         });
+        // A drag under way shows its launcher first.
+        let aim = dragged.or(queued);
         let options = DrawOptions {
             origin: bounds.center(),
             scale: bounds.radius(),
@@ -92,7 +95,7 @@ impl App {
             vectors: self.toggles.vectors.then(|| {
                 crate::render::draw::ArrowScale::of(self.session.world(), bounds.radius())
             }),
-            highlight: self.probe.as_ref().map(|p| p.at.p),
+            highlight: ring.or(self.probe.as_ref().map(|p| p.at.p)),
         };
         let view = View {
             camera: self.camera,

@@ -89,6 +89,9 @@ pub enum Action {
     HoverMarker(crate::render::probe::MarkerKind),
     /// Pin the probe where it is, or unpin it (a click on the 3D view; `pin`).
     PinProbe,
+    /// Drag the launcher, its aim handle or a target by (dx, dy) physical pixels from where
+    /// it is drawn (input scripts: `drag launcher DX DY` and so on).
+    Drag(crate::app::setup_drag::Grab, f32, f32),
     /// Write the live plots' series (CSV) and picture (PNG).
     SavePlots,
     /// Write the setup (scene, launcher, targets, integrator, step, compare lanes) as a scene

@@ -12,6 +12,9 @@
 //! hover body 0     # the pointer on lane 0's body 0: the probe reads it
 //! hover marker apex  # on body 0's last marker of a kind: tenth, second, apex, impact
 //! pin              # pin the probe there (a click on the 3D view)
+//! drag launcher 40 0   # press on the launcher, move 40 px right, release: it moves on the ground
+//! drag handle 0 -20    # the aim handle 20 px up: 10 degrees more elevation
+//! drag target 0 -30 0  # target 0 moved 30 px left (the scene restarts with it)
 //! ```
 //!
 //! A key goes through the same mapping as a real key press ([`input::action_for_key`]), so a
@@ -113,6 +116,11 @@ pub fn parse(text: &str, file: &str) -> Result<Vec<Step>, ScriptError> {
             steps.push(hover_step(words.next(), words.next(), verb, &error)?);
             continue;
         }
+        if verb == "drag" {
+            let rest: Vec<&str> = words.by_ref().collect();
+            steps.push(drag_step(&rest, verb, &error)?);
+            continue;
+        }
         if verb == "pin" {
             if let Some(extra) = words.next() {
                 return Err(error(extra, "`pin` takes no argument".into()));
@@ -157,8 +165,8 @@ pub fn parse(text: &str, file: &str) -> Result<Vec<Step>, ScriptError> {
                 return Err(error(
                     verb,
                     format!(
-                        "expected `wait N`, `key NAME`, `hover body N`, `hover marker KIND` or \
-                         `pin`, got `{verb}`"
+                        "expected `wait N`, `key NAME`, `hover body N`, `hover marker KIND`, \
+                         `pin` or `drag ...`, got `{verb}`"
                     ),
                 ));
             }
@@ -166,6 +174,46 @@ pub fn parse(text: &str, file: &str) -> Result<Vec<Step>, ScriptError> {
         steps.push(step);
     }
     Ok(steps)
+}
+
+/// `drag launcher DX DY`, `drag handle DX DY` or `drag target N DX DY` (physical pixels).
+fn drag_step(
+    rest: &[&str],
+    verb: &str,
+    error: &dyn Fn(&str, String) -> ScriptError,
+) -> Result<Step, ScriptError> {
+    use crate::app::setup_drag::Grab;
+    let expected = "expected `drag launcher DX DY`, `drag handle DX DY` or `drag target N DX DY`";
+    let (grab, offsets) = match rest {
+        ["launcher", d @ ..] => (Grab::Launcher, d),
+        ["handle", d @ ..] => (Grab::Handle, d),
+        ["target", n, d @ ..] => {
+            let n = n.parse::<usize>().map_err(|_| {
+                error(
+                    n,
+                    format!("drag target: expected a target index, got `{n}`"),
+                )
+            })?;
+            (Grab::Target(n), d)
+        }
+        [w, ..] => return Err(error(w, format!("{expected}, got `{w}`"))),
+        [] => return Err(error(verb, expected.to_string())),
+    };
+    let [dx, dy] = offsets else {
+        let at = offsets.get(2).copied().unwrap_or(verb);
+        return Err(error(at, format!("{expected}: two offsets in pixels")));
+    };
+    let px = |w: &str| {
+        w.parse::<f32>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| error(w, format!("drag: expected an offset in pixels, got `{w}`")))
+    };
+    let (x, y) = (px(dx)?, px(dy)?);
+    Ok(Step::Key(
+        Action::Drag(grab, x, y),
+        format!("drag {grab:?} {x} {y}"),
+    ))
 }
 
 /// `hover body N` or `hover marker KIND`.

@@ -133,6 +133,23 @@ impl OrbitCamera {
         ))
     }
 
+    /// The ray through pixel `px` of `viewport` (the inverse of [`OrbitCamera::project`]): its
+    /// origin on the near plane and its unit direction, world coordinates.
+    pub fn ray(&self, px: Vec2, viewport: &Viewport) -> (DVec3, DVec3) {
+        let ndc = Vec2::new(
+            (px.x - viewport.x) / viewport.width.max(1.0) * 2.0 - 1.0,
+            1.0 - (px.y - viewport.y) / viewport.height.max(1.0) * 2.0,
+        );
+        let inverse = (self.projection(viewport.aspect()) * self.view(self.target)).inverse();
+        // Reversed depth: the near plane is at z = 1, farther points towards 0.
+        let at = |z: f32| {
+            let p = inverse * ndc.extend(z).extend(1.0);
+            self.target + (p.truncate() / p.w).as_dvec3()
+        };
+        let (near, far) = (at(1.0), at(0.5));
+        (near, (far - near).normalize_or(-self.back()))
+    }
+
     /// Turns the eye around the target by a mouse drag of (`dx`, `dy`) pixels.
     pub fn orbit(&mut self, dx: f64, dy: f64) {
         self.yaw_deg = (self.yaw_deg - dx * ORBIT_DEG_PER_PX).rem_euclid(360.0);

@@ -108,6 +108,22 @@ impl Session {
         }
     }
 
+    /// Moves the scene's target `index` to `center` (a drag in the 3D view): the setup
+    /// changes, so the scene restarts at tick 0 with it, like a dt change, keeping the
+    /// launcher and integrator as they are now. Refused while replaying.
+    pub fn move_target(&mut self, index: usize, center: glam::DVec3) {
+        if self.refuse_while_replaying("moving a target") {
+            return;
+        }
+        let Some(target) = self.scene.targets.get_mut(index) else {
+            self.last_error = Some(format!("no target {index}"));
+            return;
+        };
+        target.center = center;
+        self.scene.launcher = *self.lanes[0].sim.world.launcher();
+        self.restart(None, &format!("target {index} moved"));
+    }
+
     /// The setup as a scene: the scene with the first lane's launcher, integrator and force
     /// terms as they are now, the current dt and substeps, and the compare lanes. Its bodies
     /// and volley are the scene's own (a setup is where a run starts, not where it got to).
