@@ -52,8 +52,11 @@ const SMOOTHING: f64 = 0.1;
 /// How the window runs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WindowOptions {
-    /// Integrators to compare side by side (empty: one world).
-    pub compare: Vec<Integrator>,
+    /// Lanes to compare side by side, each an integrator with its own dt and substeps if
+    /// given (empty: one world).
+    pub compare: Vec<crate::scene::CompareLane>,
+    /// Compare lanes at the first one's force evaluations per simulated second.
+    pub equal_cost: bool,
     /// Close after this many frames (smoke tests, screenshots).
     pub exit_after_frames: Option<u64>,
     /// Save the last frame (scene and panel) to this PNG before closing.
@@ -153,6 +156,12 @@ pub struct LaneReport {
     pub aim: Option<session::AimNote>,
     /// Its launcher.
     pub launcher: crate::scene::Launcher,
+    /// Its dt (s) and substeps.
+    pub dt: f64,
+    /// Its integrator steps per tick.
+    pub substeps: u32,
+    /// Its force evaluations per simulated second so far.
+    pub evals_per_second: f64,
     /// The targets' centres now.
     pub targets: Vec<glam::DVec3>,
 }
@@ -162,10 +171,13 @@ impl std::fmt::Display for LaneReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "lane {}: tick {}, {} bodies",
+            "lane {}: tick {}, {} bodies, dt {} s x{}, {:.1} force evaluations per sim second",
             self.integrator.name(),
             self.tick,
-            self.bodies
+            self.bodies,
+            self.dt,
+            self.substeps,
+            self.evals_per_second
         )?;
         let l = &self.launcher;
         write!(
@@ -214,7 +226,7 @@ impl std::fmt::Display for LaneReport {
 
 /// Opens the window on `scene` (read from `path`) and runs until it is closed.
 pub fn run(scene: Scene, path: &Path, options: WindowOptions) -> Result<RunSummary, AppError> {
-    let session = Session::new(scene, path, options.compare.clone());
+    let session = Session::with_lanes(scene, path, options.compare.clone(), options.equal_cost);
     run_session(session, options)
 }
 
@@ -253,6 +265,17 @@ pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummar
                 passes: l.history.passes.all().to_vec(),
                 aim: l.aim.clone(),
                 launcher: *l.sim.world.launcher(),
+                dt: l.sim.world.dt(),
+                substeps: l.sim.world.substeps(),
+                evals_per_second: {
+                    let w = &l.sim.world;
+                    let elapsed = w.tick() as f64 * w.dt();
+                    if elapsed > 0.0 {
+                        w.force_evals() as f64 / elapsed
+                    } else {
+                        0.0
+                    }
+                },
                 targets: {
                     let w = &l.sim.world;
                     let since = w.tick() as f64 * w.dt();

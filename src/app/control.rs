@@ -14,6 +14,11 @@ impl App {
         match action {
             Action::TogglePause => s.set_paused(!s.is_paused()),
             Action::Step => s.single_step(),
+            Action::SetLaneStep { lane, dt, substeps } => {
+                s.set_lane_step(lane, dt, substeps);
+                self.panel.sync(&self.session);
+            }
+            Action::SetEqualCost(on) => s.set_equal_cost(on),
             Action::Seek(tick) => s.seek(tick),
             Action::StepBack => s.step_back(),
             Action::JumpStart => s.jump_to_start(),

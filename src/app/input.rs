@@ -69,6 +69,17 @@ pub enum Action {
     PickScene(PathBuf),
     /// Compare mode with these integrators (empty: off).
     SetCompare(Vec<Integrator>),
+    /// A compare lane's own dt (s) and substeps: restarts at tick 0.
+    SetLaneStep {
+        /// Which lane.
+        lane: usize,
+        /// Its dt (s).
+        dt: Option<f64>,
+        /// Its substeps.
+        substeps: Option<u32>,
+    },
+    /// Equal cost on or off: restarts at tick 0.
+    SetEqualCost(bool),
     /// Compare mode on (with the default set) or off.
     ToggleCompare,
     /// Show or hide trails.

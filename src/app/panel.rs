@@ -533,13 +533,61 @@ fn compare(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec
     if !on {
         return;
     }
+    let mut equal = session.is_equal_cost();
+    if ui
+        .checkbox(&mut equal, "Equal cost")
+        .on_hover_text(
+            "every lane spends the first lane's force evaluations per simulated second: its dt \
+             scaled by its evaluations a tick (RK4 at 4 h beside Euler at h)",
+        )
+        .changed()
+    {
+        out.push(Action::SetEqualCost(equal));
+    }
     egui::Grid::new("legend").striped(true).show(ui, |ui| {
         ui.strong("integrator");
+        ui.strong("dt (ms)");
+        ui.strong("substeps");
+        ui.strong("evals/s");
         ui.strong("|dp| body 0");
         ui.strong("max |dp|");
         ui.end_row();
-        for lane in session.lanes() {
-            ui.colored_label(colour(lane.colour()), lane.sim.world.integrator().name());
+        let specs = session.compare_lanes();
+        for (i, lane) in session.lanes().iter().enumerate() {
+            let world = &lane.sim.world;
+            ui.colored_label(colour(lane.colour()), world.integrator().name());
+            let (mut dt_ms, mut substeps) = (world.dt() * 1e3, world.substeps());
+            let derived = session.is_equal_cost() && i > 0;
+            let dt_edit = ui.add_enabled(
+                !derived,
+                egui::DragValue::new(&mut dt_ms)
+                    .speed(0.1)
+                    .range(0.001..=10_000.0),
+            );
+            let n_edit = ui.add(
+                egui::DragValue::new(&mut substeps)
+                    .speed(0.1)
+                    .range(1..=1000),
+            );
+            if (dt_edit.lost_focus()
+                || dt_edit.drag_stopped()
+                || n_edit.lost_focus()
+                || n_edit.drag_stopped())
+                && (dt_ms != world.dt() * 1e3 || substeps != world.substeps())
+                && specs.get(i).is_some()
+            {
+                out.push(Action::SetLaneStep {
+                    lane: i,
+                    dt: Some(dt_ms * 1e-3),
+                    substeps: Some(substeps),
+                });
+            }
+            let elapsed = world.tick() as f64 * world.dt();
+            ui.monospace(if elapsed > 0.0 {
+                format!("{:.0}", world.force_evals() as f64 / elapsed)
+            } else {
+                "-".into()
+            });
             match &lane.stopped {
                 Some(d) => {
                     ui.colored_label(Color32::LIGHT_RED, format!("diverged at tick {}", d.tick))

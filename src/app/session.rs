@@ -33,7 +33,7 @@ use crate::integrate::Integrator;
 use crate::render::SceneBounds;
 use crate::render::draw;
 use crate::replay::ReplayError;
-use crate::scene::{Scene, check_integrator};
+use crate::scene::{CompareLane, Scene, check_integrator};
 use crate::sim_loop::{LoopError, SimLoop};
 use crate::world::World;
 pub use lane::{AimNote, Lane};
@@ -83,7 +83,9 @@ struct ClockSettings {
 pub struct Session {
     scene: Scene,
     path: PathBuf,
-    compare: Vec<Integrator>,
+    compare: Vec<CompareLane>,
+    /// Compare lanes after the first run at its force evaluations per simulated second.
+    equal_cost: bool,
     lanes: Vec<Lane>,
     bounds: SceneBounds,
     clock: ClockSettings,
@@ -118,12 +120,26 @@ impl Session {
     /// A session on `scene` (read from `path`); `compare` lists the integrators of compare mode
     /// (empty: one lane with the scene's integrator).
     pub fn new(scene: Scene, path: &Path, compare: Vec<Integrator>) -> Session {
+        let lanes = compare.into_iter().map(CompareLane::of).collect();
+        Session::with_lanes(scene, path, lanes, false)
+    }
+
+    /// A session whose compare lanes each have an integrator and their own dt and substeps,
+    /// at equal cost (every lane the first one's force evaluations per simulated second) or
+    /// not.
+    pub fn with_lanes(
+        scene: Scene,
+        path: &Path,
+        compare: Vec<CompareLane>,
+        equal_cost: bool,
+    ) -> Session {
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
         let mut session = Session {
             bounds: SceneBounds::of_scene(&scene),
             scene,
             path: path.to_path_buf(),
             compare,
+            equal_cost,
             lanes: Vec::new(),
             clock: ClockSettings {
                 paused: false,
@@ -159,19 +175,43 @@ impl Session {
         Ok(session)
     }
 
-    fn build_lanes(&mut self) {
-        let integrators = if self.compare.is_empty() {
-            vec![self.scene.integrator]
+    /// The scene each lane runs: its integrator, and its own dt and substeps where given; with
+    /// equal cost on, every lane after the first gets the dt at which it spends the first
+    /// lane's force evaluations per simulated second (`dt_i = dt_0 e_i s_i / (e_0 s_0)` for
+    /// `e` evaluations a step and `s` substeps; a lane of the closed form, which spends none,
+    /// keeps its own). Lanes the scene refuses are left out.
+    pub fn lane_scenes(&self) -> Vec<Scene> {
+        let specs = if self.compare.is_empty() {
+            vec![CompareLane::of(self.scene.integrator)]
         } else {
             self.compare.clone()
         };
+        let mut scenes: Vec<Scene> = specs
+            .iter()
+            .filter_map(|l| l.apply(&self.scene).ok())
+            .collect();
+        if self.equal_cost && scenes.len() > 1 {
+            let cost = |s: &Scene| {
+                crate::integrate::evals_per_step(s.integrator, &s.forces) as f64
+                    * f64::from(s.substeps)
+            };
+            let (dt0, cost0) = (scenes[0].dt(), cost(&scenes[0]));
+            for s in scenes.iter_mut().skip(1) {
+                let c = cost(s);
+                if c > 0.0 && cost0 > 0.0 {
+                    let _ = s.set_dt(dt0 * c / cost0);
+                }
+            }
+        }
+        scenes
+    }
+
+    fn build_lanes(&mut self) {
         let origin = self.bounds.center();
-        self.lanes = integrators
+        self.lanes = self
+            .lane_scenes()
             .into_iter()
-            .filter(|i| check_integrator(*i, &self.scene.forces).is_ok())
-            .map(|integrator| {
-                let mut scene = self.scene.clone();
-                scene.integrator = integrator;
+            .map(|scene| {
                 let mut world = World::new(&scene);
                 world.set_threads(self.threads);
                 let mut sim = SimLoop::new(world);
@@ -436,15 +476,66 @@ impl Session {
         Ok(())
     }
 
-    /// Switches compare mode (an empty list turns it off) and restarts at tick 0.
+    /// Switches compare mode (an empty list turns it off) and restarts at tick 0; lanes of
+    /// integrators already compared keep their own dt and substeps.
     pub fn set_compare(&mut self, integrators: Vec<Integrator>) {
+        let lanes = integrators
+            .into_iter()
+            .map(|i| {
+                self.compare
+                    .iter()
+                    .find(|l| l.integrator == i)
+                    .copied()
+                    .unwrap_or(CompareLane::of(i))
+            })
+            .collect();
+        self.set_compare_lanes(lanes);
+    }
+
+    /// Compare mode with these lanes (integrator, dt, substeps each) and restarts at tick 0.
+    pub fn set_compare_lanes(&mut self, lanes: Vec<CompareLane>) {
         if self.refuse_while_replaying("compare mode") {
             return;
         }
         self.keep_integrator_choice();
-        self.compare = integrators;
+        self.compare = lanes;
         self.stop_recording("compare mode switched: the world restarted at tick 0");
         self.build_lanes();
+    }
+
+    /// Sets compare lane `i`'s own dt and substeps (`None`: the scene's) and restarts at tick 0.
+    pub fn set_lane_step(&mut self, i: usize, dt: Option<f64>, substeps: Option<u32>) {
+        let mut lanes = self.compare.clone();
+        let Some(lane) = lanes.get_mut(i) else {
+            return;
+        };
+        let trial = CompareLane {
+            dt,
+            substeps,
+            ..*lane
+        };
+        if let Err(e) = trial.apply(&self.scene) {
+            self.last_error = Some(e.to_string());
+            return;
+        }
+        *lane = trial;
+        self.set_compare_lanes(lanes);
+    }
+
+    /// Gives every compare lane the first lane's force evaluations per simulated second (or
+    /// each its own step again) and restarts at tick 0.
+    pub fn set_equal_cost(&mut self, on: bool) {
+        if self.refuse_while_replaying("equal cost") {
+            return;
+        }
+        self.equal_cost = on;
+        self.stop_recording("equal cost switched: the world restarted at tick 0");
+        self.build_lanes();
+    }
+
+    /// Whether compare lanes run at equal cost.
+    pub fn is_equal_cost(&self) -> bool {
+        self.equal_cost
     }
 
     /// Pauses or resumes every lane (the user's pause: it replaces a pause a divergence caused).
@@ -524,7 +615,12 @@ impl Session {
     }
 
     /// The integrators of compare mode (empty when off).
-    pub fn compare(&self) -> &[Integrator] {
+    pub fn compare(&self) -> Vec<Integrator> {
+        self.compare.iter().map(|l| l.integrator).collect()
+    }
+
+    /// The lanes of compare mode with their own steps (empty when off).
+    pub fn compare_lanes(&self) -> &[CompareLane] {
         &self.compare
     }
 

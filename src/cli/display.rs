@@ -111,6 +111,7 @@ impl DisplayArgs {
         };
         Ok(WindowOptions {
             compare: Vec::new(),
+            equal_cost: false,
             exit_after_frames: self.exit_after_frames,
             screenshot: self.screenshot.clone(),
             size,

@@ -5,11 +5,11 @@ use std::path::PathBuf;
 use clap::Args;
 
 use volley::app::{self, WindowOptions};
-use volley::integrate::Integrator;
+use volley::scene::CompareLane;
 
 use super::args::{Overrides, load_scene, parse_integrator};
 use super::display::{DisplayArgs, report, window_failure};
-use super::{Failure, scene_dirs};
+use super::{EXIT_INPUT, Failure, fail, scene_dirs};
 
 /// Arguments of `volley window`.
 #[derive(Args, Clone, Debug)]
@@ -20,10 +20,15 @@ pub struct WindowArgs {
     /// The scene's settings replaced at start.
     #[command(flatten)]
     pub overrides: Overrides,
-    /// Start in compare mode with these integrators (comma-separated names, or `default` for
-    /// explicit-euler,semi-implicit-euler,verlet,rk4).
+    /// Start in compare mode with these lanes: comma-separated integrator names, each with its
+    /// own dt and substeps if wanted as `NAME@DT` or `NAME@DTxSUBSTEPS` (`rk4@0.2,
+    /// explicit-euler@0.05x2`), or `default` for explicit-euler,semi-implicit-euler,verlet,rk4.
     #[arg(long, value_name = "LIST")]
     pub compare: Option<String>,
+    /// Compare lanes after the first get the first one's force evaluations per simulated
+    /// second (their dt scaled by their cost per step: RK4 at 4 h beside Euler at h).
+    #[arg(long)]
+    pub equal_cost: bool,
     /// How the window shows and paces frames.
     #[command(flatten)]
     pub display: DisplayArgs,
@@ -42,18 +47,67 @@ pub fn default_run() -> Result<(), Failure> {
         scene: "seed".into(),
         overrides: Overrides::default(),
         compare: None,
+        equal_cost: false,
         display: DisplayArgs::default(),
         no_watch: false,
         record: None,
     })
 }
 
-fn parse_compare(list: &str) -> Result<Vec<Integrator>, Failure> {
+/// `--compare`: `NAME`, `NAME@DT` or `NAME@DTxSUBSTEPS`, comma-separated, or `default`.
+pub fn parse_compare(list: &str) -> Result<Vec<CompareLane>, Failure> {
     if list == "default" {
-        return Ok(app::input::DEFAULT_COMPARE.to_vec());
+        return Ok(app::input::DEFAULT_COMPARE.map(CompareLane::of).to_vec());
     }
     list.split(',')
-        .map(|name| parse_integrator("--compare", name.trim()))
+        .map(|item| {
+            let item = item.trim();
+            let (name, step) = match item.split_once('@') {
+                Some((n, s)) => (n, Some(s)),
+                None => (item, None),
+            };
+            let integrator = parse_integrator("--compare", name.trim())?;
+            let bad = |what: &str| {
+                fail(
+                    EXIT_INPUT,
+                    format!("--compare: `{item}`: expected NAME@DT or NAME@DTxSUBSTEPS, {what}"),
+                )
+            };
+            let (dt, substeps) = match step {
+                None => (None, None),
+                Some(s) => {
+                    let (dt, n) = match s.split_once('x') {
+                        Some((dt, n)) => (dt, Some(n)),
+                        None => (s, None),
+                    };
+                    let dt = dt
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|d| d.is_finite() && *d > 0.0)
+                        .ok_or_else(|| {
+                            bad(&format!(
+                                "the dt `{dt}` is not a positive number of seconds"
+                            ))
+                        })?;
+                    let n = match n {
+                        Some(n) => {
+                            Some(n.parse::<u32>().ok().filter(|n| *n >= 1).ok_or_else(|| {
+                                bad(&format!(
+                                    "the substeps `{n}` are not a whole number of at least 1"
+                                ))
+                            })?)
+                        }
+                        None => None,
+                    };
+                    (Some(dt), n)
+                }
+            };
+            Ok(CompareLane {
+                integrator,
+                dt,
+                substeps,
+            })
+        })
         .collect()
 }
 
@@ -91,6 +145,7 @@ pub fn run(args: &WindowArgs) -> Result<(), Failure> {
     };
     let options = WindowOptions {
         compare,
+        equal_cost: args.equal_cost,
         watch: !args.no_watch,
         scenes: bundled_scenes(),
         record: args.record.clone(),

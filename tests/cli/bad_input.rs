@@ -102,6 +102,9 @@ fn cli_errors_are_one_line_with_a_nonzero_exit() {
         vec!["headless", "seed", "--expect-hash", "0xe02a9ef4a1ddb32g"],
         vec!["aim", "--from", "0,0", "--to", "1,1,1", "--speed", "3"],
         vec!["aim", "--from", "0,0,0", "--to", "1000,0,0", "--speed", "3"],
+        vec!["window", "seed", "--compare", "rk4@zero"],
+        vec!["window", "seed", "--compare", "rk4@0.1x0"],
+        vec!["window", "seed", "--compare", "leapfrog@0.1"],
         vec!["warp"],
     ] {
         let (code, _, err) = volley(&args);

@@ -10,6 +10,7 @@ mod replay_support;
 mod render_golden;
 mod render_history;
 mod window_aim;
+mod window_compare;
 mod window_plots;
 mod window_probe;
 mod window_record_replay;

@@ -86,7 +86,7 @@ fn a_saved_compare_setup_opens_the_window_in_its_lanes() {
     ];
     let s = Session::new(scene::load(&path).unwrap(), &path, lanes);
     let file = s.save_setup(&dir).unwrap();
-    assert_eq!(scene::load(&file).unwrap().compare, s.compare());
+    assert_eq!(scene::load(&file).unwrap().compare, s.compare_lanes());
     let args = [
         "window",
         file.to_str().unwrap(),

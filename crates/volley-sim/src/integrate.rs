@@ -209,6 +209,19 @@ fn visit_model<F: ForceModel, V: SchemeVisitor>(integrator: Integrator, f: &F, v
     }
 }
 
+/// Force evaluations one step of `integrator` costs per body on `forces` (velocity Verlet's
+/// carried force counted once a step; the closed form 0): what "equal cost" compares.
+pub fn evals_per_step(integrator: Integrator, forces: &Forces) -> u64 {
+    struct Evals;
+    impl SchemeVisitor for Evals {
+        type Out = u64;
+        fn visit<S: Scheme>(self, _: S) -> u64 {
+            S::EVALS
+        }
+    }
+    visit(integrator, forces, Evals)
+}
+
 /// Advances one body by `h` with any integrator: the reference path for tests and studies.
 ///
 /// The stepping loop uses the same `Scheme` code, so results are bit-identical to a world's.

@@ -64,9 +64,55 @@ pub struct Scene {
     pub seed: u64,
     /// Divergence guard settings.
     pub guard: Guard,
-    /// Integrators the window opens in compare mode (empty: one lane); headless runs ignore
-    /// it and step [`Scene::integrator`].
-    pub compare: Vec<Integrator>,
+    /// Lanes the window opens in compare mode (empty: one lane); headless runs ignore it and
+    /// step [`Scene::integrator`].
+    pub compare: Vec<CompareLane>,
+}
+
+/// One lane of compare mode: an integrator, and its own dt and substeps where given (else the
+/// scene's). Written `(integrator: Rk4, dt: 0.05, substeps: 2)` in a scene file.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CompareLane {
+    /// The lane's integrator.
+    pub integrator: Integrator,
+    /// Its timestep (s), rounded to whole nanoseconds; the scene's if absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    /// Its integrator steps per tick; the scene's if absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub substeps: Option<u32>,
+}
+
+impl CompareLane {
+    /// A lane of `integrator` at the scene's step.
+    pub fn of(integrator: Integrator) -> CompareLane {
+        CompareLane {
+            integrator,
+            dt: None,
+            substeps: None,
+        }
+    }
+
+    /// `scene` as this lane runs it: its integrator, and its dt and substeps where given.
+    pub fn apply(&self, scene: &Scene) -> Result<Scene, SceneError> {
+        let mut s = scene.clone();
+        let field = |what: String| SceneError {
+            file: scene.name.clone(),
+            position: None,
+            field: Some(what.clone()),
+            message: what,
+        };
+        s.set_integrator(self.integrator)
+            .map_err(|e| field(format!("{}: {e}", self.integrator)))?;
+        if let Some(dt) = self.dt {
+            s.set_dt(dt).map_err(|e| field(e.to_string()))?;
+        }
+        if let Some(n) = self.substeps {
+            s.set_substeps(n).map_err(|e| field(e.to_string()))?;
+        }
+        Ok(s)
+    }
 }
 
 impl Scene {
@@ -413,7 +459,7 @@ struct RawScene {
     #[serde(default)]
     guard: Guard,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    compare: Vec<Integrator>,
+    compare: Vec<CompareLane>,
 }
 
 fn one_u32() -> u32 {
@@ -632,9 +678,24 @@ fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Inva
     let forces = validate_forces(&raw.forces)?;
     check_integrator(integrator, &forces)
         .map_err(|e| invalid("integrator", ValueProblem::Integrator(e)))?;
-    for (i, &lane) in raw.compare.iter().enumerate() {
-        check_integrator(lane, &forces)
-            .map_err(|e| invalid(format!("compare[{i}]"), ValueProblem::Integrator(e)))?;
+    for (i, lane) in raw.compare.iter().enumerate() {
+        check_integrator(lane.integrator, &forces).map_err(|e| {
+            invalid(
+                format!("compare[{i}].integrator"),
+                ValueProblem::Integrator(e),
+            )
+        })?;
+        if let Some(dt) = lane.dt {
+            timestep_from_secs(&format!("compare[{i}].dt"), dt)?;
+        }
+        if let Some(n) = lane.substeps
+            && !(1..=MAX_SUBSTEPS).contains(&n)
+        {
+            return Err(invalid(
+                format!("compare[{i}].substeps"),
+                ValueProblem::Substeps(n),
+            ));
+        }
     }
     let ground = raw
         .ground

@@ -36,10 +36,17 @@ impl Session {
         if let Some(replay) = &self.replay {
             return Some((0, replay.end_tick()));
         }
+        // In the first lane's ticks; lanes with their own dt follow it by sim time.
+        let h0 = self.lanes[0].sim.world.scene().timestep.as_nanos();
         let mut range = (0, u64::MAX);
         for lane in &self.lanes {
             let t = lane.history.timeline.as_ref()?;
-            range = (range.0.max(t.start()), range.1.min(t.end()));
+            let h = lane.sim.world.scene().timestep.as_nanos();
+            let to_first = |tick: u64| (u128::from(tick) * h / h0.max(1)) as u64;
+            range = (
+                range.0.max(to_first(t.start())),
+                range.1.min(to_first(t.end())),
+            );
         }
         Some(range)
     }
@@ -69,18 +76,28 @@ impl Session {
         if self.recording.is_some() {
             self.stop_recording(&format!("the timeline moved to tick {tick}"));
         }
+        // `tick` is the first lane's; a lane with its own dt goes to its last tick at or
+        // before the same sim time.
+        let h0 = self.lanes[0].sim.world.scene().timestep.as_nanos();
         for lane in &mut self.lanes {
             let Some(timeline) = lane.history.timeline.as_mut() else {
                 continue;
             };
-            if let Err(e) = timeline.seek(&mut lane.sim.world, tick) {
+            let h = lane.sim.world.scene().timestep.as_nanos();
+            let own = if h == h0 {
+                tick
+            } else {
+                let t = u128::from(tick) * h0 / h.max(1);
+                (t as u64).clamp(timeline.start(), timeline.end())
+            };
+            if let Err(e) = timeline.seek(&mut lane.sim.world, own) {
                 self.last_error = Some(format!("seek: {e}"));
                 continue;
             }
             lane.sim.clear_queued();
             lane.sim
-                .schedule(timeline.commands_from(tick).iter().copied());
-            lane.sim.clock.set_tick(tick);
+                .schedule(timeline.commands_from(own).iter().copied());
+            lane.sim.clock.set_tick(own);
             lane.stopped = lane.sim.world.divergence();
             lane.history.after_seek(&lane.sim.world);
             lane.pushed = lane.history.commands_applied() + lane.refused;
@@ -195,7 +212,7 @@ impl Session {
         };
         let scaled = Duration::from_secs_f64(delta.as_secs_f64() * self.clock.time_scale);
         let owed = owed + scaled;
-        let step = self.scene.timestep;
+        let step = self.lanes[0].sim.world.scene().timestep;
         let ticks = (owed.as_nanos() / step.as_nanos().max(1)) as u64;
         let left = owed - step * ticks.min(u64::from(u32::MAX)) as u32;
         let now = self.world().tick();

@@ -234,7 +234,14 @@ fn restore_names_the_check_a_snapshot_fails() {
 fn a_scene_written_by_to_ron_parses_back_to_the_same_scene_and_steps_to_the_same_bits() {
     for (name, _) in volley_sim::scene::BUNDLED {
         let mut scene = volley_sim::scene::bundled(name).unwrap().unwrap();
-        scene.compare = vec![scene.integrator];
+        scene.compare = vec![
+            volley_sim::scene::CompareLane::of(scene.integrator),
+            volley_sim::scene::CompareLane {
+                integrator: scene.integrator,
+                dt: Some(0.05),
+                substeps: Some(3),
+            },
+        ];
         let text = scene.to_ron();
         let back = volley_sim::scene::parse(&text, "saved.ron", "saved")
             .unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
