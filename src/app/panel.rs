@@ -549,7 +549,6 @@ fn compare(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec
         ui.strong("dt (ms)");
         ui.strong("substeps");
         ui.strong("evals/s");
-        ui.strong("|dp| body 0");
         ui.strong("max |dp|");
         ui.end_row();
         let specs = session.compare_lanes();
@@ -592,13 +591,16 @@ fn compare(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec
                 Some(d) => {
                     ui.colored_label(Color32::LIGHT_RED, format!("diverged at tick {}", d.tick))
                         .on_hover_text(format!("body {}: {}", d.body, cause(d)));
-                    ui.label("");
                 }
                 None => {
                     let first = (!lane.sim.world.bodies().is_empty())
                         .then(|| lane.history.references.error(&lane.sim.world, 0));
-                    ui.monospace(first.map_or("-".into(), |e| short(&e)));
-                    ui.monospace(max_error(lane).map_or("-".into(), |m| format!("{m:.3e} m")));
+                    // The largest error, or why body 0 has none (its reference ended).
+                    ui.monospace(match (max_error(lane), first) {
+                        (Some(m), _) => format!("{m:.2e} m"),
+                        (None, Some(e)) => short(&e),
+                        (None, None) => "-".into(),
+                    });
                 }
             }
             ui.end_row();

@@ -137,6 +137,8 @@ pub fn show(ui: &mut Ui, session: &Session, tab: &mut usize, out: &mut Vec<Actio
 
 fn error_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
     Plot::new("error")
+        // The panel is the background: a second one only costs the software rasteriser.
+        .show_background(false)
         .height(height)
         .x_axis_label("sim time (s)")
         .y_axis_label("position error (m)")
@@ -167,6 +169,8 @@ fn error_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
 
 fn energy_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
     Plot::new("energy")
+        // The panel is the background: a second one only costs the software rasteriser.
+        .show_background(false)
         .height(height)
         .x_axis_label("sim time (s)")
         .y_axis_label("(E - E0) / scale")
@@ -182,6 +186,8 @@ fn energy_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
 
 fn work_precision_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
     Plot::new("work-precision")
+        // The panel is the background: a second one only costs the software rasteriser.
+        .show_background(false)
         .height(height)
         .legend(Legend::default().position(egui_plot::Corner::RightTop))
         .x_axis_label("force evaluations per sim second")
