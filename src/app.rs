@@ -354,6 +354,10 @@ struct App {
     probe_pinned: bool,
     /// A drag of the launcher, its handle or a target under way.
     setup_drag: Option<setup_drag::SetupDrag>,
+    /// Synthetic egui input of scripted clicks, a batch a frame.
+    synthetic: std::collections::VecDeque<Vec<egui::Event>>,
+    /// The panel's named controls as the last frame laid them out.
+    controls: panel::Controls,
     quit: bool,
     outcome: Result<(), AppError>,
 }
@@ -403,6 +407,8 @@ impl App {
             probe: None,
             probe_pinned: false,
             setup_drag: None,
+            synthetic: std::collections::VecDeque::new(),
+            controls: panel::Controls::default(),
             script,
             drill_step: 0,
             quit: false,
@@ -560,7 +566,10 @@ impl App {
                 _ => None,
             };
         }
-        let raw = egui_state.take_egui_input(&window);
+        let mut raw = egui_state.take_egui_input(&window);
+        if let Some(events) = self.synthetic.pop_front() {
+            raw.events.extend(events);
+        }
         let mut actions = Vec::new();
         let mut rest = egui::Rect::NOTHING;
         let show_panel = self.toggles.panel;
@@ -598,6 +607,7 @@ impl App {
             }
         });
         egui_state.handle_platform_output(&window, output.platform_output);
+        self.controls = panel::take_controls(&self.egui);
         // The UI's time leaves out what its actions do (a seek, an aim): that is simulation.
         let laid_out = ui_start.elapsed();
         for action in actions {

@@ -94,6 +94,7 @@ impl App {
             }
             Action::PinProbe => self.probe_pinned = self.probe.is_some() && !self.probe_pinned,
             Action::Drag(grab, dx, dy) => self.scripted_drag(grab, dx, dy),
+            Action::Click(at) => self.scripted_click(&at),
             Action::SaveSetup => {
                 let dir = s.recordings_dir.clone();
                 s.saved_note = Some(match s.save_setup(&dir) {
@@ -135,6 +136,52 @@ impl App {
             }
             Err(e) => self.session.last_error = Some(e.to_string()),
         }
+    }
+
+    /// A script's click: on the 3D view it pins the probe there (what a real click does); on
+    /// the panel it is a press and a release fed to egui over two frames, so the button under
+    /// it acts as if clicked.
+    fn scripted_click(&mut self, at: &super::input::ClickAt) {
+        use super::input::ClickAt;
+        let point = match at {
+            ClickAt::Point(x, y) => egui::pos2(*x, *y),
+            ClickAt::Control(label) => match self.controls.0.iter().find(|(l, _)| l == label) {
+                Some((_, rect)) => rect.center(),
+                None => {
+                    self.session.last_error = Some(format!("click {label}: no such control shown"));
+                    return;
+                }
+            },
+        };
+        let ppp = self.egui.pixels_per_point();
+        let (px, py) = (point.x * ppp, point.y * ppp);
+        let v = &self.viewport;
+        let on_view = matches!(at, ClickAt::Point(..))
+            && px >= v.x
+            && px < v.x + v.width
+            && py >= v.y
+            && py < v.y + v.height;
+        if on_view {
+            self.pointer.position = Some((f64::from(px), f64::from(py)));
+            self.probe = super::pick::pick(
+                &self.session,
+                &self.camera,
+                &self.viewport,
+                (px, py),
+                super::pick::PICK_RADIUS * ppp,
+            );
+            self.apply(Action::PinProbe);
+            return;
+        }
+        let button = |pressed| egui::Event::PointerButton {
+            pos: point,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        };
+        self.synthetic
+            .push_back(vec![egui::Event::PointerMoved(point), button(true)]);
+        self.synthetic.push_back(vec![button(false)]);
     }
 
     /// Where `grab` is drawn now (physical px).

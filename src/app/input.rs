@@ -100,6 +100,9 @@ pub enum Action {
     HoverMarker(crate::render::probe::MarkerKind),
     /// Pin the probe where it is, or unpin it (a click on the 3D view; `pin`).
     PinProbe,
+    /// Click at a position (logical points) or on a named control of the panel (a button's
+    /// label): input scripts' `click X Y` and `click LABEL`.
+    Click(ClickAt),
     /// Drag the launcher, its aim handle or a target by (dx, dy) physical pixels from where
     /// it is drawn (input scripts: `drag launcher DX DY` and so on).
     Drag(crate::app::setup_drag::Grab, f32, f32),
@@ -114,6 +117,15 @@ pub enum Action {
     Screenshot,
     /// Close the window.
     Quit,
+}
+
+/// Where a scripted click lands.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ClickAt {
+    /// A position in logical points from the window's top left.
+    Point(f32, f32),
+    /// The centre of the panel's button with this label.
+    Control(String),
 }
 
 /// The integrators compare mode starts with: the engines' choice, its second-order sibling, the

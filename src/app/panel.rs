@@ -19,6 +19,33 @@ use crate::render::reference::ReferenceEnd;
 
 pub use alerts::{cause, overlay};
 
+/// The panel's named controls of the last frame: each button's label and its rectangle
+/// (points), so an input script can `click` a control by its label.
+#[derive(Clone, Debug, Default)]
+pub struct Controls(pub Vec<(String, egui::Rect)>);
+
+fn controls_id() -> egui::Id {
+    egui::Id::unique("volley named controls")
+}
+
+/// A button that input scripts can click by its label.
+pub fn named_button(ui: &mut Ui, text: &str) -> egui::Response {
+    let response = ui.button(text);
+    let rect = response.rect;
+    ui.ctx().data_mut(|d| {
+        d.get_temp_mut_or_default::<Controls>(controls_id())
+            .0
+            .push((text.to_string(), rect));
+    });
+    response
+}
+
+/// Takes the controls registered since the last call (once a frame).
+pub fn take_controls(ctx: &egui::Context) -> Controls {
+    ctx.data_mut(|d| d.remove_temp::<Controls>(controls_id()))
+        .unwrap_or_default()
+}
+
 /// Bodies listed in the error table.
 const ERROR_ROWS: usize = 8;
 /// Bodies the "largest error" line looks at (the first ones, so the cost stays bounded).
@@ -239,10 +266,10 @@ fn clock(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<A
         } else {
             "Pause"
         };
-        if ui.button(label).clicked() {
+        if named_button(ui, label).clicked() {
             out.push(Action::TogglePause);
         }
-        if ui.button("Step").clicked() {
+        if named_button(ui, "Step").clicked() {
             out.push(Action::Step);
         }
         let pending = lane.pending();
@@ -271,7 +298,7 @@ fn clock(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<A
                     .range(1..=crate::scene::MAX_SUBSTEPS)
                     .suffix(" substeps"),
             );
-            if ui.button("Apply").clicked() {
+            if named_button(ui, "Apply").clicked() {
                 out.push(Action::SetStep {
                     dt: state.dt_ms * 1e-3,
                     substeps: state.substeps,
@@ -304,7 +331,8 @@ fn timeline(ui: &mut Ui, session: &Session, out: &mut Vec<Action>) {
         out.push(Action::Seek(tick));
     }
     ui.horizontal(|ui| {
-        let button = |ui: &mut Ui, text: &str, hover: &str| ui.button(text).on_hover_text(hover);
+        let button =
+            |ui: &mut Ui, text: &str, hover: &str| named_button(ui, text).on_hover_text(hover);
         if button(ui, "|<", "jump to the first tick held (Backspace)").clicked() {
             out.push(Action::JumpStart);
         }
@@ -409,14 +437,13 @@ fn simulation(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut 
         });
     }
     ui.horizontal(|ui| {
-        if ui.button("Fire").clicked() {
+        if named_button(ui, "Fire").clicked() {
             out.push(Action::Fire);
         }
-        if ui.button("Reset").clicked() {
+        if named_button(ui, "Reset").clicked() {
             out.push(Action::Reset);
         }
-        if ui
-            .button("Save setup")
+        if named_button(ui, "Save setup")
             .on_hover_text("the scene with this launcher, integrator, step and compare lanes")
             .clicked()
         {
@@ -448,10 +475,10 @@ fn aim(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<Act
                     }
                 });
         }
-        if ui.button("Aim: high arc").clicked() {
+        if named_button(ui, "Aim: high arc").clicked() {
             out.push(Action::Aim(crate::exact::Arc::High));
         }
-        if ui.button("Aim: low arc").clicked() {
+        if named_button(ui, "Aim: low arc").clicked() {
             out.push(Action::Aim(crate::exact::Arc::Low));
         }
     });
@@ -681,19 +708,19 @@ fn frame(ui: &mut Ui, stats: &FrameStats, out: &mut Vec<Action>) {
         stats.size.0, stats.size.1, stats.scale, stats.adapter
     ));
     ui.horizontal(|ui| {
-        if ui.button("Trails").clicked() {
+        if named_button(ui, "Trails").clicked() {
             out.push(Action::ToggleTrails);
         }
-        if ui.button("Ghosts").clicked() {
+        if named_button(ui, "Ghosts").clicked() {
             out.push(Action::ToggleGhosts);
         }
-        if ui.button("Plots").clicked() {
+        if named_button(ui, "Plots").clicked() {
             out.push(Action::TogglePlots);
         }
-        if ui.button("Frame scene").clicked() {
+        if named_button(ui, "Frame scene").clicked() {
             out.push(Action::FrameScene);
         }
-        if ui.button("Screenshot").clicked() {
+        if named_button(ui, "Screenshot").clicked() {
             out.push(Action::Screenshot);
         }
     });

@@ -15,6 +15,8 @@
 //! drag launcher 40 0   # press on the launcher, move 40 px right, release: it moves on the ground
 //! drag handle 0 -20    # the aim handle 20 px up: 10 degrees more elevation
 //! drag target 0 -30 0  # target 0 moved 30 px left (the scene restarts with it)
+//! click Aim: high arc  # click the panel's button with this label (its centre)
+//! click 700 300        # click at a position (logical points): on the 3D view it pins the probe
 //! ```
 //!
 //! A key goes through the same mapping as a real key press ([`input::action_for_key`]), so a
@@ -23,7 +25,7 @@
 
 use winit::keyboard::{Key, NamedKey};
 
-use crate::app::input::{self, Action};
+use crate::app::input::{self, Action, ClickAt};
 
 /// One step of a script.
 #[derive(Clone, Debug, PartialEq)]
@@ -119,6 +121,23 @@ pub fn parse(text: &str, file: &str) -> Result<Vec<Step>, ScriptError> {
         if verb == "drag" {
             let rest: Vec<&str> = words.by_ref().collect();
             steps.push(drag_step(&rest, verb, &error)?);
+            continue;
+        }
+        if verb == "click" {
+            let rest: Vec<&str> = words.by_ref().collect();
+            let at = match rest.as_slice() {
+                [x, y] if x.parse::<f32>().is_ok() && y.parse::<f32>().is_ok() => {
+                    ClickAt::Point(x.parse().unwrap_or(0.0), y.parse().unwrap_or(0.0))
+                }
+                [] => {
+                    return Err(error(
+                        verb,
+                        "`click` needs `X Y` (points) or a control's label".into(),
+                    ));
+                }
+                label => ClickAt::Control(label.join(" ").trim_matches('"').to_string()),
+            };
+            steps.push(Step::Key(Action::Click(at), "click".into()));
             continue;
         }
         if verb == "pin" {
@@ -338,5 +357,15 @@ mod tests {
                 .message
                 .contains("needs an argument")
         );
+        assert!(
+            parse("click", "s")
+                .unwrap_err()
+                .message
+                .contains("needs `X Y`")
+        );
+        let steps = parse("click Aim: high arc\nclick 10 20.5\n", "s").unwrap();
+        let click = |at| Step::Key(Action::Click(at), "click".into());
+        assert_eq!(steps[0], click(ClickAt::Control("Aim: high arc".into())));
+        assert_eq!(steps[1], click(ClickAt::Point(10.0, 20.5)));
     }
 }

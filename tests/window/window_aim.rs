@@ -170,3 +170,61 @@ fn a_script_drives_the_real_window_to_aim_both_arcs_and_each_lane_hits() {
     let image = volley::render::Image::load_png(&shot).expect("the last frame was saved");
     assert_eq!((image.width, image.height), (640, 400));
 }
+
+#[test]
+fn a_script_clicks_the_aim_button_by_its_label_and_each_lane_hits() {
+    let test = "a_script_clicks_the_aim_button_by_its_label_and_each_lane_hits";
+    let dir = support::scratch_dir(test);
+    let script = dir.join("click.script");
+    // The button is found by its label among the panel's controls and clicked through egui
+    // (a press and a release on two frames), as a user would.
+    std::fs::write(
+        &script,
+        "wait 5\nclick Aim: low arc\nwait 40\nclick Pause\nwait 3\n",
+    )
+    .unwrap();
+    let args = [
+        "window",
+        "seed",
+        "--compare",
+        "explicit-euler,rk4",
+        "--script",
+        script.to_str().unwrap(),
+        "--time-scale",
+        "4",
+        "--exit-after-frames",
+        "52",
+        "--no-watch",
+    ];
+    let Some(out) = crate::window_smoke::under_xvfb_sized(test, &[], &args, "1280x800") else {
+        return;
+    };
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(stdout.matches("low arc elevation").count(), 2, "{stdout}");
+    for line in stdout
+        .lines()
+        .filter(|l| l.contains("body 1 passed target 0 at "))
+    {
+        let miss: f64 = line
+            .split("body 1 passed target 0 at ")
+            .nth(1)
+            .and_then(|r| r.split(' ').next())
+            .and_then(|m| m.parse().ok())
+            .unwrap();
+        assert!(miss < HIT, "{line}");
+    }
+    // The Pause click took: the ticks stopped growing with the frames after it (the low arc
+    // arrives by tick 10; 52 frames at this time scale would be 17 ticks unpaused).
+    let tick: u64 = stdout
+        .split("lane explicit-euler: tick ")
+        .nth(1)
+        .and_then(|r| r.split(',').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap();
+    assert!(tick < 17, "{stdout}");
+}

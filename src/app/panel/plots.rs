@@ -11,6 +11,7 @@
 //! Hovering reads sim time and value. "Save plots" writes the series as CSV and the diagram as
 //! PNG ([`write`]).
 
+use super::named_button;
 use std::path::{Path, PathBuf};
 
 use egui::{Color32, Ui};
@@ -96,8 +97,7 @@ pub fn show(ui: &mut Ui, session: &Session, tab: &mut usize, out: &mut Vec<Actio
     let narrow = ui.available_width() < SIDE_BY_SIDE;
     ui.horizontal(|ui| {
         ui.strong("Plots");
-        if ui
-            .button("Save plots")
+        if named_button(ui, "Save plots")
             .on_hover_text("CSV of the series and a PNG of the plots")
             .clicked()
         {

@@ -2,6 +2,7 @@
 //! recorded, the recordings made so far (each can be replayed), and while replaying: where the
 //! replay is, what it compared, and where it parted from its recording, field by field.
 
+use super::named_button;
 use egui::{Color32, RichText, Ui};
 
 use crate::app::input::Action;
@@ -24,7 +25,7 @@ fn recording(ui: &mut Ui, session: &Session, out: &mut Vec<Action>) {
     let first = session.lanes()[0].sim.world.integrator().name();
     ui.horizontal(|ui| match session.recording() {
         Some(_) => {
-            if ui.button("Stop recording").clicked() {
+            if named_button(ui, "Stop recording").clicked() {
                 out.push(Action::ToggleRecord);
             }
             ui.colored_label(
@@ -33,7 +34,7 @@ fn recording(ui: &mut Ui, session: &Session, out: &mut Vec<Action>) {
             );
         }
         None => {
-            if ui.button("Record").clicked() {
+            if named_button(ui, "Record").clicked() {
                 out.push(Action::ToggleRecord);
             }
             if session.is_comparing() {
@@ -66,7 +67,7 @@ fn recording(ui: &mut Ui, session: &Session, out: &mut Vec<Action>) {
             Color32::LIGHT_RED
         };
         ui.colored_label(c, last.to_string());
-        if ui.button("Replay it").clicked() {
+        if named_button(ui, "Replay it").clicked() {
             out.push(Action::Replay(last.path.clone()));
         }
     }
@@ -119,7 +120,7 @@ fn replaying(ui: &mut Ui, session: &Session, replay: &SessionReplay, out: &mut V
             format!("{f} at tick {t} (a cost counter, not state)"),
         );
     }
-    if ui.button("Go live").clicked() {
+    if named_button(ui, "Go live").clicked() {
         out.push(Action::GoLive);
     }
     ui.weak("Commands are off while replaying; going live keeps this state and runs on from it.");
