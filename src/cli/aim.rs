@@ -11,7 +11,7 @@ use volley::contact::Target;
 use volley::firing::{self, Mode, Range, Shot};
 use volley::scene::{self, Scene};
 
-use super::args::{Overrides, load_scene};
+use super::args::{Overrides, apply_overrides, load_scene};
 use super::{EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail, parse_vec3};
 
 /// Arguments of `volley aim`.
@@ -89,22 +89,7 @@ fn range_of(args: &AimArgs) -> Result<(Range, Mode), Failure> {
         }
         None => {
             let mut scene = free_flight(args.gravity.unwrap_or(9.81))?;
-            let o = &args.overrides;
-            if let Some(dt) = o.dt {
-                scene
-                    .set_dt(dt)
-                    .map_err(|e| fail(EXIT_INPUT, format!("--dt: {e}")))?;
-            }
-            if let Some(n) = o.substeps {
-                scene
-                    .set_substeps(n)
-                    .map_err(|e| fail(EXIT_INPUT, format!("--substeps: {e}")))?;
-            }
-            if let Some(i) = o.integrator {
-                scene
-                    .set_integrator(i)
-                    .map_err(|e| fail(EXIT_INPUT, format!("--integrator: {e}")))?;
-            }
+            apply_overrides(&mut scene, &args.overrides)?;
             scene
         }
     };

@@ -139,6 +139,12 @@ pub fn format_parser() -> impl TypedValueParser<Value = Format> {
 pub fn load_scene(arg: &str, overrides: &Overrides) -> Result<(PathBuf, Scene), Failure> {
     let path = resolve_scene(arg)?;
     let mut scene = scene::load(&path).map_err(|e| fail(EXIT_INPUT, e))?;
+    apply_overrides(&mut scene, overrides)?;
+    Ok((path, scene))
+}
+
+/// Applies `--dt`, `--substeps` and `--integrator` to `scene`, each refusal naming its flag.
+pub fn apply_overrides(scene: &mut Scene, overrides: &Overrides) -> Result<(), Failure> {
     if let Some(dt) = overrides.dt {
         scene
             .set_dt(dt)
@@ -154,7 +160,7 @@ pub fn load_scene(arg: &str, overrides: &Overrides) -> Result<(PathBuf, Scene), 
             .set_integrator(integrator)
             .map_err(|e| fail(EXIT_INPUT, format!("--integrator: {e}")))?;
     }
-    Ok((path, scene))
+    Ok(())
 }
 
 /// Ticks a run covers: `--ticks`, `--until`, or the scene's duration.

@@ -3,6 +3,7 @@
 //! window) and through the real window under Xvfb with an input script.
 
 use crate::support;
+use crate::window_smoke::number_after;
 
 use std::time::Duration;
 
@@ -139,31 +140,16 @@ fn a_script_drives_the_real_window_to_aim_both_arcs_and_each_lane_hits() {
         "--screenshot",
         shot.to_str().unwrap(),
     ];
-    let Some(out) = crate::window_smoke::under_xvfb(test, &args) else {
+    let Some(stdout) = crate::window_smoke::window_stdout(test, &args, "640x400") else {
         return;
     };
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     // Per lane: bodies 1 (the high arc, fired at tick 1) and 2 (the low arc) pass the centre.
     let lanes: Vec<&str> = stdout.split("lane ").skip(1).collect();
     assert_eq!(lanes.len(), 3, "{stdout}");
     for lane in lanes {
         for body in ["body 1 passed target 0 at ", "body 2 passed target 0 at "] {
-            let line = lane
-                .lines()
-                .find(|l| l.contains(body))
-                .unwrap_or_else(|| panic!("{lane}"));
-            let miss: f64 = line
-                .split(body)
-                .nth(1)
-                .and_then(|r| r.split(' ').next())
-                .and_then(|m| m.parse().ok())
-                .unwrap_or_else(|| panic!("{line}"));
-            assert!(miss < HIT, "{line}");
+            let miss = number_after(lane, body);
+            assert!(miss < HIT, "{lane}");
         }
         assert!(lane.contains("aim at target 0 from tick"), "{lane}");
     }
@@ -196,35 +182,18 @@ fn a_script_clicks_the_aim_button_by_its_label_and_each_lane_hits() {
         "52",
         "--no-watch",
     ];
-    let Some(out) = crate::window_smoke::under_xvfb_sized(test, &[], &args, "1280x800") else {
+    let Some(stdout) = crate::window_smoke::window_stdout(test, &args, "1280x800") else {
         return;
     };
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     assert_eq!(stdout.matches("low arc elevation").count(), 2, "{stdout}");
-    for line in stdout
-        .lines()
-        .filter(|l| l.contains("body 1 passed target 0 at "))
-    {
-        let miss: f64 = line
-            .split("body 1 passed target 0 at ")
-            .nth(1)
-            .and_then(|r| r.split(' ').next())
-            .and_then(|m| m.parse().ok())
-            .unwrap();
-        assert!(miss < HIT, "{line}");
+    for lane in stdout.split("lane ").skip(1) {
+        assert!(
+            number_after(lane, "body 1 passed target 0 at ") < HIT,
+            "{lane}"
+        );
     }
     // The Pause click took: the ticks stopped growing with the frames after it (the low arc
     // arrives by tick 10; 52 frames at this time scale would be 17 ticks unpaused).
-    let tick: u64 = stdout
-        .split("lane explicit-euler: tick ")
-        .nth(1)
-        .and_then(|r| r.split(',').next())
-        .and_then(|t| t.parse().ok())
-        .unwrap();
-    assert!(tick < 17, "{stdout}");
+    let tick = number_after(&stdout, "lane explicit-euler: tick ");
+    assert!(tick < 17.0, "{stdout}");
 }

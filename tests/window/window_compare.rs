@@ -120,15 +120,9 @@ fn the_window_opens_the_lanes_of_compare_with_their_steps() {
         "6",
         "--no-watch",
     ];
-    let Some(out) = crate::window_smoke::under_xvfb(test, &args) else {
+    let Some(stdout) = crate::window_smoke::window_stdout(test, &args, "640x400") else {
         return;
     };
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     assert!(stdout.contains("lane explicit-euler: tick "), "{stdout}");
     assert!(stdout.contains(", dt 0.01 s x1,"), "{stdout}");
     assert!(stdout.contains(", dt 0.04 s x2,"), "{stdout}");

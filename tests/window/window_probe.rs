@@ -163,15 +163,9 @@ fn a_script_hovers_and_pins_the_probe_on_an_apex_in_the_real_window() {
         "--screenshot",
         shot.to_str().unwrap(),
     ];
-    let Some(out) = crate::window_smoke::under_xvfb_sized(test, &[], &args, "1280x800") else {
+    let Some(stdout) = crate::window_smoke::window_stdout(test, &args, "1280x800") else {
         return;
     };
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let probe = stdout
         .lines()
         .find(|l| l.starts_with("probe: "))

@@ -170,24 +170,13 @@ fn a_script_drives_the_real_window_back_and_forth_on_its_timeline() {
         "--screenshot",
         shot.to_str().unwrap(),
     ];
-    let Some(out) = crate::window_smoke::under_xvfb(test, &args) else {
+    let Some(stdout) = crate::window_smoke::window_stdout(test, &args, "640x400") else {
         return;
     };
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     // Frame 61 steps back to 57; two frames later playing backwards starts and runs 20
     // frames at one tick a frame (60 Hz frames, h = 1/60 s), then stops: tick 37 (give or take
     // the frame the key lands in), and it stays there, paused.
-    let tick: u64 = stdout
-        .split("lane semi-implicit-euler: tick ")
-        .nth(1)
-        .and_then(|r| r.split(',').next())
-        .and_then(|t| t.parse().ok())
-        .unwrap_or_else(|| panic!("{stdout}"));
-    assert!((35..=39).contains(&tick), "{stdout}");
+    let tick = crate::window_smoke::number_after(&stdout, "lane semi-implicit-euler: tick ");
+    assert!((35.0..=39.0).contains(&tick), "{stdout}");
     assert!(volley::render::Image::load_png(&shot).is_ok());
 }

@@ -94,15 +94,9 @@ fn a_saved_compare_setup_opens_the_window_in_its_lanes() {
         "3",
         "--no-watch",
     ];
-    let Some(out) = crate::window_smoke::under_xvfb(test, &args) else {
+    let Some(stdout) = crate::window_smoke::window_stdout(test, &args, "640x400") else {
         return;
     };
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let opened: Vec<&str> = stdout
         .lines()
         .filter_map(|l| l.strip_prefix("lane "))

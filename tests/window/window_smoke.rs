@@ -105,6 +105,29 @@ pub(crate) fn under_xvfb_sized(
     Some(output)
 }
 
+/// `volley ARGS` at window size `size` under Xvfb, which must exit 0: its stdout; `None` (after
+/// reporting why) where no window can open here.
+pub(crate) fn window_stdout(test: &str, args: &[&str], size: &str) -> Option<String> {
+    let out = under_xvfb_sized(test, &[], args, size)?;
+    assert!(
+        out.status.success(),
+        "exit {:?} (124: timed out): {}",
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Some(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+/// The number right after the first `label` in `text` (up to a space, a comma or a closing
+/// parenthesis); fails naming the text if there is none.
+pub(crate) fn number_after(text: &str, label: &str) -> f64 {
+    text.split(label)
+        .nth(1)
+        .and_then(|rest| rest.split([' ', ',', ')']).next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no number after `{label}` in:\n{text}"))
+}
+
 /// [`under_xvfb_with`] without extra environment.
 pub(crate) fn under_xvfb(test: &str, args: &[&str]) -> Option<std::process::Output> {
     under_xvfb_with(test, &[], args)
