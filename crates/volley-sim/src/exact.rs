@@ -19,12 +19,16 @@ use glam::DVec3;
 use crate::body::BodyState;
 use crate::forces::{ForceModel, Forces};
 
+mod compensated;
 mod kepler;
 mod linear;
 mod series;
 
-pub use kepler::{Anomaly, KeplerError, KeplerOrbit, MAX_ITERATIONS, kepler_flow};
-pub use linear::{LinearKernel, linear_flow};
+pub use kepler::{
+    Anomaly, KeplerError, KeplerOrbit, MAX_ITERATIONS, RADIAL_PERIAPSIS, kepler_flow,
+    kepler_flow_momentum,
+};
+pub use linear::{LinearKernel, linear_flow, linear_flow_momentum};
 pub use series::{stumpff_c2, stumpff_c3};
 
 /// `(1 - e^-x) / x`, with its limit 1 at 0.

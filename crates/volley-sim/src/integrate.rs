@@ -405,17 +405,20 @@ impl<F: ForceModel> Scheme for Exact<'_, F> {
     const EVALS: u64 = 0;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
-        let v = s.mv * w.inv;
-        // The fast-path models have no point mass: this test folds away for them.
+        // The fast-path models have no point mass and no spring: these tests fold away for
+        // them, leaving the drag flow, the same operations as before springs were covered.
         if let Some(pm) = self.0.lone_point_mass() {
             // A collision of a radial orbit with the centre: NaN stops the run at this tick.
-            let (p, v) =
-                crate::exact::kepler_flow(s.p, v, &pm, h).unwrap_or((DVec3::NAN, DVec3::NAN));
-            return (BodyState { p, mv: w.m * v }, DVec3::ZERO);
+            let (p, mv) = crate::exact::kepler_flow_momentum(s.p, s.mv, w.m, &pm, h)
+                .unwrap_or((DVec3::NAN, DVec3::NAN));
+            return (BodyState { p, mv }, DVec3::ZERO);
         }
-        // Without a spring (w2 = 0, always so for the fast-path models) this is the drag flow,
-        // the same operations as before springs were covered.
-        let (p, v) = crate::exact::linear_flow(s.p, v, &self.0.linear_part(w.m), h);
+        let lin = self.0.linear_part(w.m);
+        if lin.w2 != 0.0 {
+            let (p, mv) = crate::exact::linear_flow_momentum(s.p, s.mv, w.m, &lin, h);
+            return (BodyState { p, mv }, DVec3::ZERO);
+        }
+        let (p, v) = crate::exact::linear_drag_flow(s.p, s.mv * w.inv, lin.a0, lin.kd, h);
         (BodyState { p, mv: w.m * v }, DVec3::ZERO)
     }
     fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {

@@ -132,6 +132,26 @@ pub fn linear_flow(p0: DVec3, v0: DVec3, lin: &LinearPart, t: f64) -> (DVec3, DV
     (p, v)
 }
 
+/// The same flow on the seed's state `<mV, p>` of a body of mass `m`, as the `exact` integrator
+/// applies it with a spring (`w2 > 0`): `mV' = K' mV + K (m a_s)`, `p' = p + K (mV / m) + J a_s`.
+/// The momentum is not turned into a velocity and back, so rounding `1/m` does not scale it a
+/// little every step (on an undamped spring, an energy drift of about an ulp a step). Without a
+/// spring the integrator keeps [`super::linear_drag_flow`] on `V = mV (1/m)`, as before springs
+/// were covered. Returns (p, mV).
+pub fn linear_flow_momentum(
+    p0: DVec3,
+    mv0: DVec3,
+    m: f64,
+    lin: &LinearPart,
+    t: f64,
+) -> (DVec3, DVec3) {
+    let kernel = LinearKernel::new(lin.kd, lin.w2, t);
+    let a_s = lin.a0 - lin.w2 * (p0 - lin.anchor);
+    let p = p0 + kernel.k * (mv0 / m) + kernel.j * a_s;
+    let mv = kernel.k_dot * mv0 + kernel.k * (m * a_s);
+    (p, mv)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -17,7 +17,11 @@ const STUMPFF_SERIES_BELOW: f64 = 4.0;
 
 /// Horner evaluation of `sum_k coef[k] x^k`.
 fn horner(coef: &[f64], x: f64) -> f64 {
-    coef.iter().rev().fold(0.0, |acc, c| acc * x + c)
+    let mut acc = 0.0;
+    for c in coef.iter().rev() {
+        acc = acc * x + c;
+    }
+    acc
 }
 
 /// `1/(n + 2)!` for n = 0..=17 (the terms of `phi2`'s series; `1/19! = 8.2e-18` is the first
