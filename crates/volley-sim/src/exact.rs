@@ -85,6 +85,9 @@ pub fn constant_accel(p0: DVec3, v0: DVec3, a: DVec3, t: f64) -> (DVec3, DVec3) 
 }
 
 /// Undamped oscillator `x'' = -w^2 x` (x measured from the equilibrium): returns (x, v).
+///
+/// The textbook form, for reference; [`closed_form`] and the `exact` integrator use
+/// [`linear_flow`], which covers it with damping and without dividing by `w`.
 pub fn oscillator(x0: DVec3, v0: DVec3, w: f64, t: f64) -> (DVec3, DVec3) {
     let (s, c) = (libm::sin(w * t), libm::cos(w * t));
     (c * x0 + (s / w) * v0, (-w * s) * x0 + c * v0)

@@ -19,30 +19,34 @@
 //! sqrt(mu) t = F(chi) = rb U1 + sigma_b U2 + U3,    dF/dchi = r(chi) = rb U0 + sigma_b U1 + U2 > 0.
 //! ```
 //!
-//! ## Two ways to the state, chosen by eccentricity
+//! ## Two ways to the state
 //!
-//! - **From the start** (`e <= 1/2`, and radial orbits): the base is the start state and
-//!   Lagrange's coefficients give `x = f x0 + g v0`, `v = f' x0 + g' v0` with
-//!   `f = 1 - U2 / r0`, `g = (r0 U1 + sigma0 U2) / sqrt(mu)`, `f' = -sqrt(mu) U1 / (r r0)`,
-//!   `g' = 1 - U2 / r`, `r = |x|`. (`g` is written from the anomaly, not as
-//!   `t - U3 / sqrt(mu)`, so that `f g' - f' g = 1` holds at the solved `chi`: the result is the
-//!   exact state at a time within rounding of `t`.) A short step adds the displacement
-//!   `(f - 1) x0 + g v0` to the position, so it loses nothing against the size of the orbit.
-//!   With `e <= 1/2` the distance never falls below a third of the start's, so these sums never
-//!   cancel by more than two bits.
-//! - **From periapsis** (`e > 1/2`): on an eccentric orbit the step that dives from `r0` to
-//!   periapsis `q << r0` would form a small `x` and a large `v` as differences of terms the size
-//!   of `x0` and `v0`, losing `log2(r0 / q)` bits (100 ulps at e = 0.99: enough to walk the
-//!   energy off by 1e-10 in 1000 orbits). Instead the orbit's frame is taken from the start
-//!   state, every part of it well conditioned for `e > 1/2`: `h = |x0 x v0|`, `p = h^2 / mu`,
-//!   `e = sqrt(1 - alpha p)` (not `|e_vec|`, whose `1 - e` would cancel), `q = p / (1 + e)`, the
-//!   periapsis direction `P = e_vec / |e_vec|` and `Q = h_hat x P`, and the start's anomaly
-//!   from periapsis, `chi0 = E0 / sqrt(alpha)` with `E0 = atan2(sigma0 sqrt(alpha), 1 - alpha
-//!   r0)` (asinh on a hyperbola, `chi0 = sigma0` on a parabola), at time `t0 = F(chi0) /
-//!   sqrt(mu)`. With periapsis as the base (`rb = q`, `sigma_b = 0`) the state at `t0 + t` is
-//!   `x = (q - U2) P + (h U1 / sqrt(mu)) Q`, `v = (-sqrt(mu) U1 P + h U0 Q) / r`,
-//!   `r = q U0 + U2`: sums whose terms do not cancel near periapsis, so the state there is as
-//!   accurate as it can be stored.
+//! - **From the start**, the default: the base is the start state and Lagrange's coefficients
+//!   give `x = f x0 + g v0`, `v = f' x0 + g' v0` with `f = 1 - U2 / r0`,
+//!   `g = (r0 U1 + sigma0 U2) / sqrt(mu)`, `f' = -sqrt(mu) U1 / (r r0)`, `g' = 1 - U2 / r`,
+//!   `r = |x|`. (`g` is written from the anomaly, not as `t - U3 / sqrt(mu)`, so that
+//!   `f g' - f' g = 1` holds at the solved `chi`: the result is the exact state at a time within
+//!   rounding of `t`.) A short step adds the displacement `(f - 1) x0 + g v0` to the position,
+//!   so it loses nothing against the size of the orbit. With `e <= 1/2` the distance never
+//!   falls below a third of the start's, so these sums never cancel by more than two bits.
+//! - **From periapsis**, for a step whose sums above would cancel by more than two bits on an
+//!   orbit with `e > 1/2`: the step that dives from `r0` to periapsis `q << r0` would form a
+//!   small `x` and a large `v` as differences of terms the size of `x0` and `v0`, losing
+//!   `log2(r0 / q)` bits (100 ulps at e = 0.99). Instead the orbit's frame is taken from the
+//!   start state, every part of it well conditioned for `e > 1/2`: `h = |x0 x v0|`,
+//!   `p = h^2 / mu`, `e = sqrt(1 - alpha p)` (not `|e_vec|`, whose `1 - e` would cancel),
+//!   `q = p / (1 + e)`, the periapsis direction `P = e_vec / |e_vec|` and `Q = h_hat x P`, and
+//!   the start's anomaly from periapsis, `chi0 = E0 / sqrt(alpha)` with
+//!   `E0 = atan2(sigma0 sqrt(alpha), 1 - alpha r0)` (asinh on a hyperbola, `chi0 = sigma0` on a
+//!   parabola), at time `t0 = F(chi0) / sqrt(mu)`. With periapsis as the base (`rb = q`,
+//!   `sigma_b = 0`) the state at `t0 + t` is `x = (q - U2) P + (h U1 / sqrt(mu)) Q`,
+//!   `v = (-sqrt(mu) U1 P + h U0 Q) / r`, `r = q U0 + U2`: sums whose terms do not cancel near
+//!   periapsis. (Every step formed so would round the frame's unit vectors the same way orbit
+//!   after orbit, which is why it is kept to the steps that need it.)
+//!
+//! Either way the new momentum is then corrected, by a few ulps, so that the energy evaluated in
+//! double-double is the start's (see `keep_energy`): the exact flow conserves it, and without
+//! the correction the same rounding repeated at every periapsis passage walks it.
 //!
 //! ## Solving for chi
 //!
@@ -484,17 +488,18 @@ impl KeplerOrbit {
         Ok((p, self.keep_energy(self.p0, self.v0, 1.0, p, v)))
     }
 
-    /// `mv1` (a momentum, or a velocity with `m = 1`) scaled so that the energy of `(p1, mv1)`,
-    /// evaluated in double-double, is the energy of the start `(p0, mv0)`.
+    /// `mv1` (a momentum, or a velocity with `m = 1`) corrected so that the energy of
+    /// `(p1, mv1)`, evaluated in double-double, is the energy of the start `(p0, mv0)`.
     ///
     /// Forming the new state rounds its energy by a few ulps of the kinetic energy, and on an
     /// eccentric orbit stepped at a fixed step every periapsis passage repeats nearly the same
-    /// rounding, so the energy would walk: about 3e-12 in 1000 orbits at e = 0.9 and 1e-10 at
-    /// e = 0.99 (100 steps an orbit). The exact flow conserves the energy, so putting it back
-    /// removes rounding only: the factor differs from 1 by about 1e-15 and is added as a
-    /// correction, and one rounding of the new momentum is what is left, as if the exact state had been rounded. A factor further
-    /// from 1 than 1e-8 would mean the energy cannot be evaluated that well here (overflow, a
-    /// state next to the centre); the state is then left as formed.
+    /// rounding, so the energy walks (measured without this, 1000 orbits at 100 steps an orbit:
+    /// 3e-12 at e = 0.9, 2e-11 at e = 0.99; with it 1e-13 and 5e-13, what a flow computed in 40
+    /// digits and rounded to f64 each step does). The exact flow conserves the energy, so
+    /// putting it back removes rounding only: the factor differs from 1 by a few ulps and is
+    /// added as a correction, and one rounding of the new momentum is what is left. A
+    /// correction above 1e-8 would mean the energy cannot be evaluated that well here (an
+    /// overflow, a state next to the centre); the state is then left as formed.
     fn keep_energy(&self, p0: DVec3, mv0: DVec3, m: f64, p1: DVec3, mv1: DVec3) -> DVec3 {
         let energy = |p, mv| compensated::kepler_energy(p, mv, m, self.center, self.mu);
         let gap = energy(p0, mv0).add(energy(p1, mv1).neg()).hi;
