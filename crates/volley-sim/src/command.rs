@@ -629,7 +629,8 @@ mod tests {
             (
                 CommandError::Integrator(IntegratorError::NoClosedForm(ForceKind::QuadraticDrag)),
                 "`exact` needs a closed form, and force term QuadraticDrag has none (exact covers \
-                 Gravity, ConstantForce and LinearDrag); choose another integrator",
+                 any mix of Gravity, ConstantForce, LinearDrag and a Spring with rest length 0, \
+                 or a PointMass alone); choose another integrator",
             ),
             (parse("spawn mass=0"), "spawn: mass must be > 0, got 0"),
             (

@@ -1,5 +1,16 @@
 //! Closed-form solutions: the exact references every integrator is measured against.
 //!
+//! Which force sets have one ([`closed_form`], [`Forces::without_closed_form`]):
+//! - **every linear scene**: any mix of gravity, constant force, linear drag and a
+//!   zero-rest-length spring with any damping, `x'' = a0 - kd x' - w2 (x - anchor)`, under-,
+//!   critically or over-damped ([`linear_flow`], derived in its module docs); without a spring
+//!   this is the drag flow [`linear_drag_flow`];
+//! - **a lone point mass**: Kepler's problem in universal variables, elliptic, parabolic and
+//!   hyperbolic ([`KeplerOrbit`]), except past the collision of a radial orbit with the centre.
+//!
+//! Quadratic drag, a spring with a rest length, and a point mass together with any other term
+//! have none.
+//!
 //! Transcendental functions come from the `libm` crate (a port of musl's libm), not the platform's
 //! C library, so a closed form gives the same bits on every target.
 
@@ -7,6 +18,18 @@ use glam::DVec3;
 
 use crate::body::BodyState;
 use crate::forces::{ForceModel, Forces};
+
+mod compensated;
+mod kepler;
+mod linear;
+mod series;
+
+pub use kepler::{
+    Anomaly, KeplerError, KeplerOrbit, MAX_ITERATIONS, RADIAL_PERIAPSIS, kepler_flow,
+    kepler_flow_momentum,
+};
+pub use linear::{LinearKernel, linear_flow, linear_flow_momentum};
+pub use series::{stumpff_c2, stumpff_c3};
 
 /// `(1 - e^-x) / x`, with its limit 1 at 0.
 #[inline]
@@ -62,6 +85,9 @@ pub fn constant_accel(p0: DVec3, v0: DVec3, a: DVec3, t: f64) -> (DVec3, DVec3) 
 }
 
 /// Undamped oscillator `x'' = -w^2 x` (x measured from the equilibrium): returns (x, v).
+///
+/// The textbook form, for reference; [`closed_form`] and the `exact` integrator use
+/// [`linear_flow`], which covers it with damping and without dividing by `w`.
 pub fn oscillator(x0: DVec3, v0: DVec3, w: f64, t: f64) -> (DVec3, DVec3) {
     let (s, c) = (libm::sin(w * t), libm::cos(w * t));
     (c * x0 + (s / w) * v0, (-w * s) * x0 + c * v0)
@@ -69,22 +95,20 @@ pub fn oscillator(x0: DVec3, v0: DVec3, w: f64, t: f64) -> (DVec3, DVec3) {
 
 /// The state of a body at time `t` after `s0`, from the closed form of `forces`, if one exists.
 ///
-/// Covers gravity, constant force and linear drag (any combination), and an undamped
-/// zero-rest-length spring with gravity and constant force. Contacts are not included.
+/// Covers every linear scene (gravity, constant force, linear drag and a zero-rest-length
+/// spring with any damping, in any combination: [`linear_flow`]) and a lone point mass
+/// ([`kepler_flow`]; `None` at and after a radial orbit's collision with the centre, see
+/// [`KeplerError::Collision`]). `None` for the force sets [`Forces::without_closed_form`]
+/// refuses. Contacts are not included. This is the flow the `exact` integrator applies per
+/// step, evaluated once over `t`.
 pub fn closed_form(forces: &Forces, s0: BodyState, m: f64, t: f64) -> Option<BodyState> {
-    let lin = forces.linear_part(m);
-    let v0 = s0.mv / m;
-    let only = |allowed: &[crate::forces::ForceKind]| forces.kinds().all(|k| allowed.contains(&k));
-    use crate::forces::ForceKind as K;
-    let (p, v) = if only(&[K::Gravity, K::ConstantForce, K::LinearDrag]) {
-        linear_drag_flow(s0.p, v0, lin.a0, lin.kd, t)
-    } else if only(&[K::Gravity, K::ConstantForce, K::Spring]) && lin.kd == 0.0 && lin.w2 > 0.0 {
-        let w = lin.w2.sqrt();
-        let equilibrium = lin.anchor + lin.a0 / lin.w2;
-        let (x, v) = oscillator(s0.p - equilibrium, v0, w, t);
-        (equilibrium + x, v)
-    } else {
+    if forces.without_closed_form().is_some() {
         return None;
+    }
+    let v0 = s0.mv / m;
+    let (p, v) = match forces.lone_point_mass() {
+        Some(pm) => kepler_flow(s0.p, v0, &pm, t).ok()?,
+        None => linear_flow(s0.p, v0, &forces.linear_part(m), t),
     };
     Some(BodyState { p, mv: m * v })
 }

@@ -29,6 +29,12 @@ pub trait ForceModel: Sync {
     fn nonlinear_force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3;
     /// Mechanical energy (J) of one body: kinetic plus the potential of every conservative term.
     fn energy(&self, p: DVec3, v: DVec3, m: f64) -> f64;
+    /// The point mass, when it is the only declared term (Kepler's problem, which the `exact`
+    /// integrator solves in closed form); `None` for every other force set.
+    #[inline(always)]
+    fn lone_point_mass(&self) -> Option<PointMass> {
+        None
+    }
 }
 
 /// The linear part of an acceleration: `a = a0 - kd v - w2 (p - anchor)`.
@@ -189,16 +195,21 @@ impl Forces {
         })
     }
 
-    /// The first declared term that has no closed-form solution in `exact`, if any.
+    /// The first declared term (in evaluation order) that has no closed-form solution in
+    /// `exact` together with the others, if any.
     ///
-    /// Constant force and linear drag (with gravity) have one; quadratic drag, springs and point
-    /// masses are refused because `exact` evaluates the solution rather than approximating it.
+    /// Every linear force set has one: gravity, constant force, linear drag and a spring with
+    /// rest length 0 (any stiffness and damping), in any combination. So does a point mass
+    /// alone (Kepler's problem). Refused, because `exact` evaluates the solution rather than
+    /// approximating it: quadratic drag; a spring with a rest length (its pull is not linear in
+    /// the position); a point mass with any other term (named as the point mass).
     pub fn without_closed_form(&self) -> Option<ForceKind> {
-        self.kinds().find(|k| {
-            matches!(
-                k,
-                ForceKind::QuadraticDrag | ForceKind::Spring | ForceKind::PointMass
-            )
+        let alone = self.kinds().count() == 1;
+        self.kinds().find(|k| match k {
+            ForceKind::QuadraticDrag => true,
+            ForceKind::Spring => self.spring.is_some_and(|s| s.rest_length != 0.0),
+            ForceKind::PointMass => !alone,
+            ForceKind::Gravity | ForceKind::ConstantForce | ForceKind::LinearDrag => false,
         })
     }
 
@@ -304,6 +315,16 @@ impl ForceModel for Forces {
             e -= m * pm.mu / (p - pm.center).length();
         }
         e
+    }
+
+    #[inline]
+    fn lone_point_mass(&self) -> Option<PointMass> {
+        let others = self.gravity.is_some()
+            || self.constant.is_some()
+            || self.linear_drag.is_some()
+            || self.quadratic_drag.is_some()
+            || self.spring.is_some();
+        self.point_mass.filter(|_| !others)
     }
 }
 
@@ -512,17 +533,46 @@ mod tests {
 
     #[test]
     fn closed_form_is_refused_by_the_first_term_without_one() {
-        let forces = Forces {
+        let spring = |rest_length| Spring {
+            anchor: DVec3::ZERO,
+            stiffness: 1.0,
+            rest_length,
+            damping: 0.5,
+        };
+        let pm = PointMass {
+            center: DVec3::ZERO,
+            mu: 1.0,
+        };
+        let linear = Forces {
             gravity: Some(DVec3::NEG_Z),
-            spring: Some(Spring {
-                anchor: DVec3::ZERO,
-                stiffness: 1.0,
-                rest_length: 0.0,
-                damping: 0.0,
-            }),
+            constant: Some(DVec3::X),
+            linear_drag: Some(0.1),
+            spring: Some(spring(0.0)),
             ..Forces::default()
         };
-        assert_eq!(forces.without_closed_form(), Some(ForceKind::Spring));
+        assert_eq!(linear.without_closed_form(), None);
+        let rest = Forces {
+            spring: Some(spring(1.0)),
+            ..linear
+        };
+        assert_eq!(rest.without_closed_form(), Some(ForceKind::Spring));
+        let air = Forces {
+            quadratic_drag: Some(0.01),
+            ..rest
+        };
+        assert_eq!(air.without_closed_form(), Some(ForceKind::QuadraticDrag));
+        let kepler = Forces {
+            point_mass: Some(pm),
+            ..Forces::default()
+        };
+        assert_eq!(kepler.without_closed_form(), None);
+        assert_eq!(kepler.lone_point_mass(), Some(pm));
+        let perturbed = Forces {
+            gravity: Some(DVec3::NEG_Z),
+            ..kepler
+        };
+        assert_eq!(perturbed.without_closed_form(), Some(ForceKind::PointMass));
+        assert_eq!(perturbed.lone_point_mass(), None);
     }
 
     #[test]

@@ -60,9 +60,17 @@ pub enum Integrator {
     /// Global order 1; 1 force evaluation plus a scalar solve. Unconditionally stable on the
     /// linear terms (it damps an oscillator and decays drag monotonically at any step).
     ImplicitEuler,
-    /// The closed-form solution, evaluated over each step; exact for constant force and for
-    /// linear drag (with gravity and constant force). No force evaluations. Scenes declaring any
-    /// other term are refused when the integrator is chosen.
+    /// The closed-form solution, evaluated over each step ([`crate::exact`]). No force
+    /// evaluations.
+    ///
+    /// Exact on every linear scene (gravity, constant force, linear drag and a zero-rest-length
+    /// spring with any damping: the drag flow without a spring, bit for bit as before springs
+    /// were covered, and the damped-oscillator flow with one) and on a lone point mass (Kepler's
+    /// problem in universal variables). Scenes declaring any other combination are refused when
+    /// the integrator is chosen ([`Forces::without_closed_form`]). A radial orbit that reaches
+    /// the point mass's centre within a step has no solution past it: the step returns a
+    /// non-finite state, so the world stops there with a non-finite divergence naming the tick
+    /// and the body, as any integrator does that lands on the centre.
     Exact,
 }
 
@@ -225,8 +233,8 @@ pub fn evals_per_step(integrator: Integrator, forces: &Forces) -> u64 {
 /// Advances one body by `h` with any integrator: the reference path for tests and studies.
 ///
 /// The stepping loop uses the same `Scheme` code, so results are bit-identical to a world's.
-/// `exact` on forces without a closed form returns the linear-part flow; check
-/// [`Forces::without_closed_form`] first (scenes do).
+/// `exact` on forces without a closed form returns the flow of their linear part alone (the
+/// other terms ignored); check [`Forces::without_closed_form`] first (scenes do).
 pub fn step_body(
     integrator: Integrator,
     forces: &Forces,
@@ -410,7 +418,19 @@ impl<F: ForceModel> Scheme for Exact<'_, F> {
     const EVALS: u64 = 0;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
+        // The fast-path models have no point mass and no spring: these tests fold away for
+        // them, leaving the drag flow, the same operations as before springs were covered.
+        if let Some(pm) = self.0.lone_point_mass() {
+            // A collision of a radial orbit with the centre: NaN stops the run at this tick.
+            let (p, mv) = crate::exact::kepler_flow_momentum(s.p, s.mv, w.m, &pm, h)
+                .unwrap_or((DVec3::NAN, DVec3::NAN));
+            return (BodyState { p, mv }, DVec3::ZERO);
+        }
         let lin = self.0.linear_part(w.m);
+        if lin.w2 != 0.0 {
+            let (p, mv) = crate::exact::linear_flow_momentum(s.p, s.mv, w.m, &lin, h);
+            return (BodyState { p, mv }, DVec3::ZERO);
+        }
         let (p, v) = crate::exact::linear_drag_flow(s.p, s.mv * w.inv, lin.a0, lin.kd, h);
         (BodyState { p, mv: w.m * v }, DVec3::ZERO)
     }
@@ -449,6 +469,45 @@ mod tests {
         let next = step_body(Integrator::ExplicitEuler, &gravity(), s, 2.5, 0.2);
         assert_eq!(next.p, s.p + 0.2 * (s.mv * (1.0 / 2.5)));
         assert_eq!(next.mv, s.mv + 0.2 * DVec3::new(0.0, 0.0, 2.5 * -9.81));
+    }
+
+    /// The `exact` step on force sets it covered before springs is still the drag flow, bit for
+    /// bit, on every model `visit` picks for them (pinned hashes depend on it).
+    #[test]
+    fn exact_without_a_spring_is_the_drag_flow_bit_for_bit() {
+        let cases = [
+            gravity(),
+            Forces {
+                linear_drag: Some(0.3),
+                ..gravity()
+            },
+            Forces {
+                linear_drag: Some(0.3),
+                constant: Some(DVec3::new(1.5, -0.5, 0.0)),
+                ..gravity()
+            },
+            Forces {
+                linear_drag: Some(0.3),
+                constant: Some(DVec3::new(1.5, -0.5, 0.0)),
+                ..Forces::default()
+            },
+        ];
+        let s = BodyState {
+            p: DVec3::new(10.0, 0.0, 2.0),
+            mv: DVec3::new(19.2, 0.0, 72.5),
+        };
+        let (m, h) = (2.5, 1.0 / 60.0);
+        let bits = |v: DVec3| v.to_array().map(f64::to_bits);
+        for forces in cases {
+            let a0 =
+                forces.gravity.unwrap_or(DVec3::ZERO) + forces.constant.unwrap_or(DVec3::ZERO) / m;
+            let k = forces.drag_rate(m);
+            let v0 = s.mv * (1.0 / m);
+            let (p, v) = crate::exact::linear_drag_flow(s.p, v0, a0, k, h);
+            let next = step_body(Integrator::Exact, &forces, s, m, h);
+            assert_eq!(bits(next.p), bits(p), "{forces:?}");
+            assert_eq!(bits(next.mv), bits(m * v), "{forces:?}");
+        }
     }
 
     #[test]

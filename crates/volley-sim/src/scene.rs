@@ -598,15 +598,26 @@ pub enum IntegratorError {
 impl std::fmt::Display for IntegratorError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            IntegratorError::NoClosedForm(kind) => write!(
-                f,
-                "`exact` needs a closed form, and force term {} has none (exact covers Gravity, \
-                 ConstantForce and LinearDrag); choose another integrator",
-                kind.name()
-            ),
+            IntegratorError::NoClosedForm(kind) => {
+                let why = match kind {
+                    ForceKind::Spring => "has none with a rest length",
+                    ForceKind::PointMass => "has one only alone",
+                    _ => "has none",
+                };
+                write!(
+                    f,
+                    "`exact` needs a closed form, and force term {} {why} (exact covers any mix \
+                     of {COVERED}); choose another integrator",
+                    kind.name()
+                )
+            }
         }
     }
 }
+
+/// What `exact` covers, as the refusal names it.
+const COVERED: &str =
+    "Gravity, ConstantForce, LinearDrag and a Spring with rest length 0, or a PointMass alone";
 
 impl std::error::Error for IntegratorError {}
 
@@ -1034,8 +1045,9 @@ mod tests {
             ),
             (
                 at("integrator", ValueProblem::Integrator(no_closed_form)),
-                "integrator: `exact` needs a closed form, and force term Spring has none (exact \
-                 covers Gravity, ConstantForce and LinearDrag); choose another integrator",
+                "integrator: `exact` needs a closed form, and force term Spring has none with a \
+                 rest length (exact covers any mix of Gravity, ConstantForce, LinearDrag and a \
+                 Spring with rest length 0, or a PointMass alone); choose another integrator",
             ),
         ];
         for (error, message) in cases {

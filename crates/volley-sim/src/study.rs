@@ -483,8 +483,9 @@ mod tests {
             change(&mut c);
             validate(&scene, &c).unwrap_err()
         };
-        let no_closed_form = "`exact` needs a closed form, and force term QuadraticDrag has none (exact covers \
-             Gravity, ConstantForce and LinearDrag); choose another integrator";
+        let no_closed_form = "`exact` needs a closed form, and force term QuadraticDrag has none (exact covers any \
+             mix of Gravity, ConstantForce, LinearDrag and a Spring with rest length 0, or a \
+             PointMass alone); choose another integrator";
         let cases = [
             (
                 with(|c| c.integrators.clear()),

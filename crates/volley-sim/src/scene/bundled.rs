@@ -28,6 +28,14 @@ pub const BUNDLED: &[(&str, &str)] = &[
         include_str!("../../../../assets/scenes/hard/bounce.ron"),
     ),
     (
+        "hard/critical_spring",
+        include_str!("../../../../assets/scenes/hard/critical_spring.ron"),
+    ),
+    (
+        "hard/eccentric_orbit",
+        include_str!("../../../../assets/scenes/hard/eccentric_orbit.ron"),
+    ),
+    (
         "hard/far_from_origin",
         include_str!("../../../../assets/scenes/hard/far_from_origin.ron"),
     ),
@@ -38,6 +46,10 @@ pub const BUNDLED: &[(&str, &str)] = &[
     (
         "hard/hitch",
         include_str!("../../../../assets/scenes/hard/hitch.ron"),
+    ),
+    (
+        "hard/kepler_time",
+        include_str!("../../../../assets/scenes/hard/kepler_time.ron"),
     ),
     (
         "hard/long_orbit",

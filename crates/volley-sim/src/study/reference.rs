@@ -1,8 +1,9 @@
 //! The references a study measures against, best first:
 //!
 //! 1. **Closed form** ([`crate::exact::closed_form`]) at every sampled tick, when the scene has
-//!    no contacts and every body's forces have one (gravity, constant force, linear drag, an
-//!    undamped zero-rest-length spring).
+//!    no contacts and every body's forces have one (any mix of gravity, constant force, linear
+//!    drag and a zero-rest-length spring with any damping; or a lone point mass, unless a body
+//!    on a radial orbit reaches its centre).
 //! 2. **Exact flow**: the scene run with [`Integrator::Exact`] at the same dt, when every force
 //!    term has a closed form but the scene has contacts: each step evaluates the closed form and
 //!    impacts are solved inside the step, so the whole piecewise trajectory is exact to rounding.

@@ -201,8 +201,9 @@ fn restore_names_the_check_a_snapshot_fails() {
         (
             |s| s.integrator = Integrator::Exact,
             RestoreError::Integrator(IntegratorError::NoClosedForm(ForceKind::QuadraticDrag)),
-            "`exact` needs a closed form, and force term QuadraticDrag has none (exact covers \
-             Gravity, ConstantForce and LinearDrag); choose another integrator",
+            "`exact` needs a closed form, and force term QuadraticDrag has none (exact covers any \
+             mix of Gravity, ConstantForce, LinearDrag and a Spring with rest length 0, or a \
+             PointMass alone); choose another integrator",
         ),
         (
             |s| s.launcher.speed = -1.0,

@@ -1,4 +1,4 @@
-//! The nine hard cases of docs/physics.md ("Hard cases"), one scene each under `assets/scenes/hard/`, asserted for
+//! The twelve hard cases of docs/physics.md ("Hard cases"), one scene each under `assets/scenes/hard/`, asserted for
 //! every integrator: who stays bounded, who diverges, and when the guard catches it.
 //!
 //! Every expected number is derived in the test from the math of the case (growth factors of

@@ -1,4 +1,4 @@
-//! Hard cases 1-3: a stiff spring, strong drag, a long orbit.
+//! Hard cases 1, 2 and 10: a stiff spring, strong drag, a critically damped spring.
 //!
 //! On the test equation each method multiplies the state by its stability function R; in the
 //! coordinates (x, v/w) of an undamped oscillator that is a complex multiplication by R(i w h),
@@ -85,14 +85,21 @@ fn stiff_spring_symplectic_methods_stay_bounded() {
 }
 
 #[test]
-fn stiff_spring_has_no_closed_form_integrator() {
+fn stiff_spring_exact_is_the_oscillation_itself() {
+    // A zero-rest-length spring is linear: `exact` runs it, at w h = 1.667 as at any step.
     let scene = load("hard/stiff_spring");
-    assert!(!allowed(&scene).contains(&Exact));
-    let err = volley_sim::scene::check_integrator(Exact, &scene.forces).unwrap_err();
-    assert_eq!(
-        err,
-        volley_sim::scene::IntegratorError::NoClosedForm(volley_sim::ForceKind::Spring)
-    );
+    assert!(allowed(&scene).contains(&Exact));
+    let (trace, result, _) = run(&with(&scene, Exact), 600);
+    assert!(result.is_ok(), "{result:?}");
+    let (w, h) = (100.0, scene.dt());
+    for (n, p) in trace.p.iter().enumerate() {
+        // From rest at 1 m: x = cos(w t). Each step composes the exact flow, so only rounding
+        // accumulates, about an ulp a step: 600 steps stay below 1e-12 m.
+        let x = (w * n as f64 * h).cos();
+        assert!((p.x - x).abs() < 1e-12, "tick {n}: {} vs {x}", p.x);
+    }
+    let e0 = trace.energy[0];
+    assert!(trace.energy.iter().all(|e| (e - e0).abs() < 1e-12 * e0));
 }
 
 #[test]
@@ -224,4 +231,90 @@ fn strong_drag_multiplies_velocity_by_the_stability_function() {
     let (trace, _, _) = run(&unguarded, 3);
     assert!(trace.v[1].x < 0.0 && trace.v[2].x > 0.0 && trace.v[3].x < 0.0);
     assert!(trace.v[3].x.abs() > trace.v[2].x.abs());
+}
+
+/// Hard case 10's critical solution about the equilibrium, per axis: with `g = w = 10` and
+/// `A = y0 - y_eq`, `y = y_eq + (A + (v0 + g A) t) e^(-g t)`.
+fn critical_textbook(scene: &volley_sim::Scene, t: f64) -> glam::DVec3 {
+    let s = scene.forces.spring.expect("a spring is declared");
+    let b = scene.bodies[0];
+    let g = 10.0;
+    let eq = s.anchor + scene.forces.gravity.unwrap() / 100.0;
+    let a = b.position - eq;
+    eq + (a + (b.velocity + g * a) * t) * (-g * t).exp()
+}
+
+#[test]
+fn critical_spring_exact_is_the_critical_closed_form_at_every_tick() {
+    let scene = load("hard/critical_spring");
+    let (k, c, m) = (100.0, 20.0, scene.bodies[0].mass);
+    // Exactly critical in floating point: gamma^2 = (c / 2m)^2 = k / m.
+    assert_eq!((c / (2.0 * m)) * (c / (2.0 * m)), k / m);
+    assert_eq!(scene.integrator, Exact);
+    let (trace, result, world) = run(&scene, 600);
+    assert!(result.is_ok(), "{result:?}");
+    let s0 = volley_sim::integrate::BodyState {
+        p: scene.bodies[0].position,
+        mv: m * scene.bodies[0].velocity,
+    };
+    for (n, p) in trace.p.iter().enumerate() {
+        let t = n as f64 * scene.dt();
+        let closed = volley_sim::exact::closed_form(&scene.forces, s0, m, t).unwrap();
+        // Each step composes the exact flow, so only rounding accumulates (an ulp of the 5 m
+        // coordinates a step, damped by the flow itself): 1e-12 m over 600 steps. The closed
+        // form and the textbook critical solution are both a few ulps from the truth.
+        assert!(
+            (*p - closed.p).length() < 1e-12,
+            "tick {n}: {p} vs {}",
+            closed.p
+        );
+        let textbook = critical_textbook(&scene, t);
+        assert!((closed.p - textbook).length() < 1e-14 * 5.0, "tick {n}");
+    }
+    assert_eq!(world.force_evals(), 0);
+}
+
+#[test]
+fn critical_spring_every_integrator_runs_with_its_order_and_settles() {
+    let scene = load("hard/critical_spring");
+    assert_eq!(allowed(&scene), Integrator::ALL.to_vec());
+    let report = stability::check(&scene);
+    assert!(report.verdicts.iter().all(|v| v.stable), "{report:?}");
+    let eq = scene.forces.spring.unwrap().anchor + scene.forces.gravity.unwrap() / 100.0;
+    // Largest position error against the closed form over the first second, at dt and dt / 2.
+    let max_error = |integrator: Integrator, halve: bool| {
+        let mut s = with(&scene, integrator);
+        if halve {
+            s.set_dt(scene.dt() / 2.0).unwrap();
+        }
+        let ticks = (1.0 / s.dt()).round() as u64;
+        let (trace, result, _) = run(&s, ticks);
+        assert!(result.is_ok(), "{integrator}: {result:?}");
+        trace
+            .p
+            .iter()
+            .enumerate()
+            .map(|(n, p)| (*p - critical_textbook(&s, n as f64 * s.dt())).length())
+            .fold(0.0, f64::max)
+    };
+    for integrator in Integrator::ALL {
+        let (_, result, world) = run(&with(&scene, integrator), 600);
+        assert!(result.is_ok(), "{integrator}: {result:?}");
+        // Ten seconds is 100 decay times: every stable method has reached the equilibrium,
+        // which is a fixed point of each of them, to rounding.
+        let p = world.bodies().positions().get(0);
+        assert!((p - eq).length() < 1e-12, "{integrator}: {p} vs {eq}");
+        if integrator == Exact {
+            continue;
+        }
+        let order = integrator.info().order as i32;
+        let ratio = max_error(integrator, false) / max_error(integrator, true);
+        // The next term of the error expansion is O(w h) = 0.17 of the first at dt, so halving
+        // dt divides the error by 2^order within 25%.
+        let expected = 2f64.powi(order);
+        assert!(
+            (0.8 * expected..1.25 * expected).contains(&ratio),
+            "{integrator}: halving dt divides the error by {ratio}, not 2^{order}"
+        );
+    }
 }

@@ -1,4 +1,8 @@
-//! `exact` is the closed form, not an approximation: at any t, for any dt.
+//! `exact` is the closed form, not an approximation: at any t, for any dt. Here the drag flow;
+//! the linear system with a spring in `linear`, Kepler's problem in `kepler`.
+
+mod kepler;
+mod linear;
 
 use glam::DVec3;
 use proptest::prelude::*;
