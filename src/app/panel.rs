@@ -661,7 +661,19 @@ fn short(e: &BodyError) -> String {
 fn errors(ui: &mut Ui, session: &Session) {
     let lane = &session.lanes()[0];
     let world = &lane.sim.world;
-    ui.strong("Error against the closed form");
+    ui.strong("Error against the reference");
+    if let Some(r) = world
+        .bodies()
+        .ids()
+        .first()
+        .and_then(|id| lane.history.references.get(*id))
+    {
+        let (kind, estimate) = r.kind();
+        ui.weak(match estimate {
+            Some(e) => format!("body 0 against: {kind}, its own error about {e:.1e}"),
+            None => format!("body 0 against: {kind}"),
+        });
+    }
     egui::Grid::new("errors").striped(true).show(ui, |ui| {
         ui.strong("body");
         ui.strong("|p - p_exact|");
@@ -690,7 +702,7 @@ fn errors(ui: &mut Ui, session: &Session) {
             "largest |p - p_exact| over the first {scanned} of {n} bodies: {max}"
         ));
     }
-    ui.weak("The closed form has no contacts: a body's reference ends at its first impact.");
+    ui.weak("References have no contacts: a body's reference ends at its first impact.");
 }
 
 fn frame(ui: &mut Ui, stats: &FrameStats, out: &mut Vec<Action>) {

@@ -293,6 +293,8 @@ impl DrawList {
             mass: l.mass,
             forces: *world.forces(),
             has_closed_form: true,
+            numeric: false,
+            cache: std::cell::Cell::new(None),
             end: None,
         };
         let floor = world.contacts().ground.map(|g| g.height);

@@ -54,9 +54,22 @@ pub struct Reference {
     pub forces: Forces,
     /// Whether the forces have a closed form at all.
     pub has_closed_form: bool,
+    /// Without one, whether this body gets the numerical reference
+    /// ([`crate::exact::extrapolate`]): the first [`NUMERIC_BODIES`] do.
+    pub numeric: bool,
+    /// The numerical reference's last state: (seconds after spawn, state, error estimate), so
+    /// each frame advances it from there instead of from the spawn.
+    pub cache: std::cell::Cell<Option<(f64, BodyState, f64)>>,
     /// When the reference stopped applying, if it has.
     pub end: Option<ReferenceEnd>,
 }
+
+/// Bodies without a closed form that get the numerical reference (the first ones in id order):
+/// it costs some hundreds of force evaluations a body a tick.
+pub const NUMERIC_BODIES: usize = 64;
+
+/// Tolerance of the numerical reference, relative (far below any error it is used to measure).
+pub const NUMERIC_TOLERANCE: f64 = 1e-12;
 
 /// A body's numerical error against its reference.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -98,6 +111,7 @@ impl References {
         let forces = *world.forces();
         for (i, &id) in ids.iter().enumerate().skip(first_new) {
             let (state, mass) = (bodies.state(i), bodies.masses()[i]);
+            let has_closed_form = closed_form(&forces, state, mass, 0.0).is_some();
             self.list.push(Reference {
                 id,
                 spawn_tick: world.tick(),
@@ -105,7 +119,9 @@ impl References {
                 state,
                 mass,
                 forces,
-                has_closed_form: closed_form(&forces, state, mass, 0.0).is_some(),
+                has_closed_form,
+                numeric: !has_closed_form && self.list.len() < NUMERIC_BODIES,
+                cache: std::cell::Cell::new(None),
                 end: None,
             });
         }
@@ -172,12 +188,43 @@ impl References {
 }
 
 impl Reference {
-    /// The exact state `t` seconds after spawn, if the forces have a closed form.
+    /// The exact state `t` seconds after spawn: the closed form where the forces have one,
+    /// else, for the first bodies, the numerical reference (adaptive extrapolation to
+    /// [`NUMERIC_TOLERANCE`], advanced from where it last was).
     pub fn exact_at(&self, t: f64) -> Option<BodyState> {
-        if !self.has_closed_form {
+        if self.has_closed_form {
+            return closed_form(&self.forces, self.state, self.mass, t);
+        }
+        if !self.numeric {
             return None;
         }
-        closed_form(&self.forces, self.state, self.mass, t)
+        let (t0, s0, e0) = match self.cache.get() {
+            Some(c) if c.0 <= t => c,
+            _ => (0.0, self.state, 0.0),
+        };
+        let (s, e) =
+            crate::exact::extrapolate(&self.forces, s0, self.mass, t - t0, NUMERIC_TOLERANCE)
+                .ok()?;
+        self.cache.set(Some((t, s, e0 + e)));
+        Some(s)
+    }
+
+    /// Which reference the body is measured against, and that reference's own error estimate
+    /// (m) where it has one: for the panel.
+    pub fn kind(&self) -> (&'static str, Option<f64>) {
+        if self.has_closed_form {
+            ("closed form", None)
+        } else if self.numeric {
+            (
+                "extrapolation (Gragg-Bulirsch-Stoer, 1e-12)",
+                self.cache.get().map(|c| c.2),
+            )
+        } else {
+            (
+                "none (only the first 64 bodies get the numerical reference)",
+                None,
+            )
+        }
     }
 
     /// Seconds from spawn to the end of the reference, if it ended.

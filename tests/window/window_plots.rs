@@ -166,3 +166,35 @@ fn the_real_window_draws_the_plots_in_each_lanes_colour() {
         );
     }
 }
+
+#[test]
+fn a_scene_without_a_closed_form_is_measured_against_the_numerical_reference() {
+    // The wind scene: quadratic drag, no closed form. The first bodies get the extrapolation
+    // reference, so the error column and the plots have numbers; RK4 at 60 Hz is far closer
+    // to it than explicit Euler.
+    let mut s = session("wind", vec![Integrator::ExplicitEuler, Integrator::Rk4]);
+    s.run_ticks(60);
+    let error = |lane: usize| {
+        let l = &s.lanes()[lane];
+        match l.history.references.error(&l.sim.world, 0) {
+            volley::render::BodyError::Measured { position, .. } => position,
+            other => panic!("{other:?}"),
+        }
+    };
+    assert!(error(1) < 1e-6, "{}", error(1));
+    assert!(error(0) > 1e3 * error(1), "{} vs {}", error(0), error(1));
+    let r = s.lanes()[1]
+        .history
+        .references
+        .get(s.world().bodies().ids()[0])
+        .unwrap();
+    let (kind, estimate) = r.kind();
+    assert!(kind.starts_with("extrapolation"), "{kind}");
+    // Its own error estimate is a hundredth of the error it measures, or less.
+    assert!(
+        estimate.unwrap() < 1e-2 * error(1),
+        "{estimate:?} vs {}",
+        error(1)
+    );
+    assert!(!s.lanes()[1].history.series.error_max.buckets().is_empty());
+}

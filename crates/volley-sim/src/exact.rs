@@ -20,10 +20,12 @@ use crate::body::BodyState;
 use crate::forces::{ForceModel, Forces};
 
 mod compensated;
+mod extrapolation;
 mod kepler;
 mod linear;
 mod series;
 
+pub use extrapolation::{ExtrapolationError, extrapolate};
 pub use kepler::{
     Anomaly, KeplerError, KeplerOrbit, MAX_ITERATIONS, RADIAL_PERIAPSIS, kepler_flow,
     kepler_flow_momentum,

@@ -1,6 +1,7 @@
 //! `exact` is the closed form, not an approximation: at any t, for any dt. Here the drag flow;
 //! the linear system with a spring in `linear`, Kepler's problem in `kepler`.
 
+mod extrapolation;
 mod kepler;
 mod linear;
 
