@@ -267,15 +267,7 @@ pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummar
                 launcher: *l.sim.world.launcher(),
                 dt: l.sim.world.dt(),
                 substeps: l.sim.world.substeps(),
-                evals_per_second: {
-                    let w = &l.sim.world;
-                    let elapsed = w.tick() as f64 * w.dt();
-                    if elapsed > 0.0 {
-                        w.force_evals() as f64 / elapsed
-                    } else {
-                        0.0
-                    }
-                },
+                evals_per_second: l.evals_per_second().unwrap_or(0.0),
                 targets: {
                     let w = &l.sim.world;
                     let since = w.tick() as f64 * w.dt();

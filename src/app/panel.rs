@@ -608,12 +608,10 @@ fn compare(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec
                     substeps: Some(substeps),
                 });
             }
-            let elapsed = world.tick() as f64 * world.dt();
-            ui.monospace(if elapsed > 0.0 {
-                format!("{:.0}", world.force_evals() as f64 / elapsed)
-            } else {
-                "-".into()
-            });
+            ui.monospace(
+                lane.evals_per_second()
+                    .map_or("-".into(), |e| format!("{e:.0}")),
+            );
             match &lane.stopped {
                 Some(d) => {
                     ui.colored_label(Color32::LIGHT_RED, format!("diverged at tick {}", d.tick))

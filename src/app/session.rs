@@ -23,6 +23,7 @@ mod lane;
 pub mod recording;
 pub mod replaying;
 mod rewind;
+mod setup;
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;

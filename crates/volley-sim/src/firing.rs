@@ -356,16 +356,34 @@ struct At {
 impl SchemeVisitor for At {
     type Out = BodyState;
     fn visit<S: Scheme>(self, scheme: S) -> BodyState {
-        let mut carry = scheme.start_carry(self.s0, self.w);
-        let mut s = self.s0;
-        for _ in 0..self.steps {
-            (s, carry) = scheme.step(s, self.w, self.hs, carry);
-        }
+        let (s, carry) = fly(&scheme, self.s0, self.w, self.hs, self.steps, |_, _| true);
         if self.tau > 0.0 {
-            s = scheme.step(s, self.w, self.tau, carry).0;
+            scheme.step(s, self.w, self.tau, carry).0
+        } else {
+            s
         }
-        s
     }
+}
+
+/// `steps` whole steps of `hs` from `s0` as a world takes them (the carried force started as
+/// at a spawn), calling `each` with every state reached and stopping early when it says so.
+/// Returns the last state and carry.
+fn fly<S: Scheme>(
+    scheme: &S,
+    s0: BodyState,
+    w: Mass,
+    hs: f64,
+    steps: u64,
+    mut each: impl FnMut(BodyState, DVec3) -> bool,
+) -> (BodyState, DVec3) {
+    let (mut s, mut carry) = (s0, scheme.start_carry(s0, w));
+    for _ in 0..steps {
+        (s, carry) = scheme.step(s, w, hs, carry);
+        if !each(s, carry) {
+            break;
+        }
+    }
+    (s, carry)
 }
 
 /// The state and carried force at every step boundary `0..=count` of a body launched as in
@@ -380,17 +398,12 @@ struct Samples {
 impl SchemeVisitor for Samples {
     type Out = Vec<(BodyState, DVec3)>;
     fn visit<S: Scheme>(self, scheme: S) -> Self::Out {
-        let mut carry = scheme.start_carry(self.s0, self.w);
-        let mut s = self.s0;
         let mut out = Vec::with_capacity(self.count as usize + 1);
-        out.push((s, carry));
-        for _ in 0..self.count {
-            (s, carry) = scheme.step(s, self.w, self.hs, carry);
+        out.push((self.s0, scheme.start_carry(self.s0, self.w)));
+        fly(&scheme, self.s0, self.w, self.hs, self.count, |s, carry| {
             out.push((s, carry));
-            if !s.p.is_finite() {
-                break;
-            }
-        }
+            s.p.is_finite()
+        });
         out
     }
 }

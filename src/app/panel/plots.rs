@@ -27,10 +27,10 @@ const FLOOR: f64 = 1e-16;
 /// The work-precision point of a lane: (force evaluations per simulated second, the largest
 /// position error so far), if it has run and has an error.
 pub fn work_precision(lane: &Lane) -> Option<(f64, f64)> {
-    let world = &lane.sim.world;
-    let elapsed = world.tick() as f64 * world.dt();
-    let error = lane.history.series.error_max.max()?;
-    (elapsed > 0.0).then(|| (world.force_evals() as f64 / elapsed, error))
+    Some((
+        lane.evals_per_second()?,
+        lane.history.series.error_max.max()?,
+    ))
 }
 
 fn log10(x: f64) -> f64 {

@@ -73,6 +73,14 @@ impl Lane {
         }
     }
 
+    /// Force evaluations per simulated second so far (the cost equal-cost compare mode
+    /// levels), once the lane has run a tick.
+    pub fn evals_per_second(&self) -> Option<f64> {
+        let w = &self.sim.world;
+        let elapsed = w.tick() as f64 * w.dt();
+        (elapsed > 0.0).then(|| w.force_evals() as f64 / elapsed)
+    }
+
     /// The colour of the lane's integrator.
     pub fn colour(&self) -> Rgba {
         draw::integrator_colour(self.sim.world.integrator())
