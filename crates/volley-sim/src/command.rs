@@ -651,7 +651,8 @@ mod tests {
             (
                 parse("integrator leapfrog"),
                 "integrator: unknown `leapfrog`, expected one of explicit-euler, \
-                 semi-implicit-euler, verlet, midpoint, rk4, implicit-euler, exact",
+                 semi-implicit-euler, verlet, midpoint, rk4, implicit-euler, exact, forest-ruth, \
+                 dopri5, implicit-midpoint",
             ),
             (
                 parse("force Antigravity on"),

@@ -296,7 +296,7 @@ pub(crate) fn resolve<S: Scheme>(
         Detection::Swept => resolve_swept(scheme, frame, body, (s0, c0), (s1, c1), out),
         Detection::Discrete => {
             let (s, c) = resolve_discrete(scheme, frame, body, s0, (s1, c1), out);
-            (s, c, if S::CARRIES_FORCE { S::EVALS } else { 0 })
+            (s, c, u64::from(S::CARRIES_FORCE))
         }
     }
 }
@@ -313,8 +313,9 @@ fn resolve_swept<S: Scheme>(
     let mut elapsed = 0.0; // time from the step start to the segment start
     let mut remaining = frame.h;
     let step = |s: BodyState, c: DVec3, tau: f64, evals: &mut u64| {
-        *evals += S::EVALS;
-        scheme.step(s, body.w, tau, c)
+        let (s, c, n) = scheme.step_counted(s, body.w, tau, c);
+        *evals += n;
+        (s, c)
     };
     for _ in 0..MAX_IMPACTS_PER_STEP {
         // Earliest surface crossing in this segment.
@@ -335,12 +336,11 @@ fn resolve_swept<S: Scheme>(
                     continue;
                 }
             }
-            let (tau, n) = bracketed_root(
-                |tau| plane.distance(step(s, c, tau, &mut 0).0.p),
+            let (tau, _) = bracketed_root(
+                |tau| plane.distance(step(s, c, tau, &mut evals).0.p),
                 (0.0, d0),
                 (remaining, d1),
             );
-            evals += n * S::EVALS;
             if first.is_none_or(|(t, _)| tau < t) {
                 first = Some((tau, plane));
             }
@@ -411,7 +411,7 @@ fn resolve_swept<S: Scheme>(
     clamp_outside(frame, body, &mut s);
     if S::CARRIES_FORCE {
         c = scheme.start_carry(s, body.w);
-        evals += S::EVALS;
+        evals += 1; // the carried force: one evaluation
     }
     (s, c, evals)
 }
@@ -429,8 +429,9 @@ fn settle<S: Scheme>(
     let mv_n = plane.normal.dot(s.mv);
     s.mv -= mv_n * plane.normal;
     let (mut end, mut end_c) = if remaining > 0.0 {
-        *evals += S::EVALS;
-        scheme.step(s, body.w, remaining, c)
+        let (end, end_c, n) = scheme.step_counted(s, body.w, remaining, c);
+        *evals += n;
+        (end, end_c)
     } else {
         (s, c)
     };
@@ -439,7 +440,7 @@ fn settle<S: Scheme>(
         end.p -= d * plane.normal;
         if S::CARRIES_FORCE {
             end_c = scheme.start_carry(end, body.w);
-            *evals += S::EVALS;
+            *evals += 1;
         }
     }
     let mv_n = plane.normal.dot(end.mv);
@@ -477,7 +478,13 @@ fn targets_on_segment<S: Scheme>(
     out: &mut Vec<Event>,
     evals: &mut u64,
 ) {
-    let path = |tau: f64| scheme.step(a, body.w, tau, ca).0;
+    // Every point of the path is a partial step, counted as it is taken.
+    let spent = std::cell::Cell::new(0u64);
+    let path = |tau: f64| {
+        let (s, _, n) = scheme.step_counted(a, body.w, tau, ca);
+        spent.set(spent.get() + n);
+        s
+    };
     let since = frame.since_start + elapsed;
     for (i, target) in frame.contacts.targets.iter().enumerate() {
         let reach = target.radius + body.r;
@@ -487,8 +494,7 @@ fn targets_on_segment<S: Scheme>(
         let (g0, g1) = (rate(&a, 0.0), rate(&b, duration));
         // Where along the segment the distance is smallest.
         let (tau_min, closest) = if g0 < 0.0 && g1 >= 0.0 {
-            let (tau, n) = bracketed_root(|tau| rate(&path(tau), tau), (0.0, g0), (duration, g1));
-            *evals += (n + 1) * S::EVALS;
+            let (tau, _) = bracketed_root(|tau| rate(&path(tau), tau), (0.0, g0), (duration, g1));
             (Some(tau), path(tau))
         } else if g1 < 0.0 {
             (None, b)
@@ -500,9 +506,8 @@ fn targets_on_segment<S: Scheme>(
         let gap0 = gap(&a, 0.0);
         if gap0 > 0.0 && gap_min <= 0.0 {
             let end = tau_min.unwrap_or(duration);
-            let (tau_hit, n) =
+            let (tau_hit, _) =
                 bracketed_root(|tau| gap(&path(tau), tau), (0.0, gap0), (end, gap_min));
-            *evals += n * S::EVALS;
             out.push(Event {
                 tick: frame.tick,
                 time: frame.t0 + elapsed + tau_hit,
@@ -523,6 +528,7 @@ fn targets_on_segment<S: Scheme>(
             });
         }
     }
+    *evals += spent.get();
 }
 
 fn resolve_discrete<S: Scheme>(

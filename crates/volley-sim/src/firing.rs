@@ -459,6 +459,7 @@ struct Stepped<'a> {
     range: &'a Range,
     integrator: Integrator,
     forces: Forces,
+    tolerance: f64,
     w: Mass,
     hs: f64,
 }
@@ -469,6 +470,7 @@ impl<'a> Stepped<'a> {
             range,
             integrator: range.scene.integrator,
             forces: range.scene.forces,
+            tolerance: range.scene.tolerance,
             w: Mass::new(range.mass),
             hs: range.sub_step(),
         }
@@ -488,7 +490,7 @@ impl<'a> Stepped<'a> {
             hs: self.hs,
             count,
         };
-        visit(self.integrator, &self.forces, samples)
+        visit(self.integrator, &self.forces, self.tolerance, samples)
     }
 
     fn position(&self, v0: DVec3, t: f64) -> DVec3 {
@@ -500,7 +502,7 @@ impl<'a> Stepped<'a> {
             steps,
             tau,
         };
-        visit(self.integrator, &self.forces, at).p
+        visit(self.integrator, &self.forces, self.tolerance, at).p
     }
 
     /// The textbook guess: constant acceleration, no drag.
@@ -1029,7 +1031,13 @@ fn closest_approach(range: &Range, v0: DVec3, duration: f64) -> Option<(f64, f64
             w: stepped.w,
             tau: t - j as f64 * hs,
         };
-        let p = visit(stepped.integrator, &stepped.forces, partial).p;
+        let p = visit(
+            stepped.integrator,
+            &stepped.forces,
+            stepped.tolerance,
+            partial,
+        )
+        .p;
         (p - range.target_at(t)).length()
     };
     let bracket = (k.saturating_sub(1) as f64 * hs, (k + 1) as f64 * hs);

@@ -27,6 +27,18 @@ pub trait ForceModel: Sync {
     fn linear_part(&self, m: f64) -> LinearPart;
     /// Force from the terms [`ForceModel::linear_part`] leaves out (treated explicitly).
     fn nonlinear_force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3;
+    /// Whether any term is left to [`ForceModel::nonlinear_force`] (implicit midpoint picks its
+    /// form by it). The fast-path models have none.
+    #[inline(always)]
+    fn has_nonlinear(&self) -> bool {
+        false
+    }
+    /// The quadratic drag coefficient c (kg/m) of `-c |v| v`, 0 if undeclared (Forest-Ruth
+    /// solves its velocity terms in closed form).
+    #[inline(always)]
+    fn quadratic_drag(&self) -> f64 {
+        0.0
+    }
     /// Mechanical energy (J) of one body: kinetic plus the potential of every conservative term.
     fn energy(&self, p: DVec3, v: DVec3, m: f64) -> f64;
     /// The point mass, when it is the only declared term (Kepler's problem, which the `exact`
@@ -262,6 +274,18 @@ impl ForceModel for Forces {
         self.linear_drag.is_some()
             || self.quadratic_drag.is_some()
             || self.spring.is_some_and(|s| s.damping != 0.0)
+    }
+
+    #[inline]
+    fn has_nonlinear(&self) -> bool {
+        self.quadratic_drag.is_some()
+            || self.spring.is_some_and(|s| s.rest_length != 0.0)
+            || self.point_mass.is_some()
+    }
+
+    #[inline]
+    fn quadratic_drag(&self) -> f64 {
+        self.quadratic_drag.unwrap_or(0.0)
     }
 
     #[inline]

@@ -72,7 +72,73 @@ pub enum Integrator {
     /// non-finite state, so the world stops there with a non-finite divergence naming the tick
     /// and the body, as any integrator does that lands on the centre.
     Exact,
+    /// Forest-Ruth (Yoshida's triple jump): three generalised Verlet steps of `c1 h`, `c2 h`,
+    /// `c1 h` with `c1 = 1 / (2 - 2^(1/3)) = 1.3512`, `c2 = 1 - 2 c1 = -1.7024` (a step back in
+    /// time in the middle). Each generalised Verlet step (`h` here its own length) is
+    /// `V½ = V + h/2 (Fpos(p)/m + a_vel(V½))`, `p' = p + h V½`,
+    /// `mV' = m V½ + h/2 (Fpos(p') + m a_vel(V½))`, where `Fpos` is the force of the position
+    /// terms (gravity, constant force, springs without their damping, point mass) and `a_vel`
+    /// the velocity terms (`-kd V - (c/m)|V| V`: linear drag, spring damping, quadratic drag).
+    /// The first kick is implicit in `V½`, solved in closed form (`V½` is parallel to its
+    /// right-hand side, so a scalar quadratic); with position forces alone it is velocity Verlet.
+    ///
+    /// Why that form: the composition reaches order 4 only from a *symmetric* order-2 step, and
+    /// this one is (the generalised Störmer-Verlet method); velocity Verlet's predicted form
+    /// (what `verlet` uses with drag) is not, and composed it gives order 3 with drag.
+    ///
+    /// Global order 4; symplectic on position forces (energy error bounded on an orbit). 3
+    /// position-force evaluations per step (the end force carried to the next substep and the
+    /// next step, as velocity Verlet does); the velocity terms are evaluated in closed form, not
+    /// counted. Stable on an undamped oscillator for `w h < 1.5734` (the largest substep is
+    /// 1.35 h); on linear drag for `k h < 1.1344` and again past 1.2006 (the backward substep's
+    /// factor `(1 + 0.85 k h) / (1 - 0.85 k h)` has its pole between); exact under constant
+    /// force. With quadratic drag the backward substep's implicit solve has no real root once
+    /// `2 |c2| h c |v| / m > 1` (the linearised `k h > 0.29`): the step turns NaN and the world
+    /// reports it, and the stability pre-check flags it.
+    ForestRuth,
+    /// Dormand-Prince 5(4), adaptive inside the tick: embedded Runge-Kutta steps on
+    /// y = (p, mV), the 5th-order solution kept, the 4th-order one giving the error estimate.
+    /// Each tick (each substep) starts with one internal step of the whole length and splits
+    /// it as the estimate needs: a step is accepted when every component of the error is at
+    /// most `tol (1 + |y|)` (the scene's `tolerance`, mixed absolute and relative), and the next
+    /// internal step is `0.9 / err^(1/4)` times the last, between 0.2 and 5 times (a quartic
+    /// root, two correctly rounded square roots, instead of the usual fifth root: `powf` is not
+    /// correctly rounded, so its bits could differ between platforms and decide a replay). The
+    /// choice depends on the state and `h` only, never on earlier ticks, so replays and seeks
+    /// are exact.
+    ///
+    /// Global order 5 while a tick is one internal step, and error proportional to the
+    /// tolerance once the controller splits ticks. 7 force evaluations for a tick taken in one
+    /// internal step, 6 more per further attempt (first-same-as-last); every evaluation of
+    /// rejected attempts is counted. No step-size stability limit: the controller shrinks the
+    /// internal step until the estimate passes, so a stiff scene costs evaluations instead of
+    /// diverging. More than [`DOPRI_MAX_ATTEMPTS`] attempts in one step, or a non-finite
+    /// estimate, ends the step with a non-finite state, which the world reports as a divergence.
+    Dopri5,
+    /// Implicit midpoint on the linear terms, explicit midpoint on the rest:
+    /// `V' = (V (1 - h kd/2 - h^2 w^2/4) + h (a0 + a_nl(pm, Vm) - w^2 (p - anchor))) /
+    /// (1 + h kd/2 + h^2 w^2/4)`, `p' = p + h (V + V')/2`, with `a0`, `kd`, `w^2`, `anchor` as
+    /// for implicit Euler and `a_nl` the other terms at the Euler-predicted midpoint
+    /// `pm = p + h/2 V`, `Vm = V + h/2 F(p, V)/m`.
+    ///
+    /// Global order 2. On the linear terms it is the Cayley transform of the flow: symplectic
+    /// and time-symmetric, so an undamped oscillator keeps its energy (to rounding) at any step,
+    /// with a phase lag instead of growth; drag decays at any step (but overshoots sign for
+    /// `k h > 2`). 1 force evaluation plus a scalar solve with linear terms only; 2 with other
+    /// terms (the start force for the predictor and the other terms at the midpoint).
+    ImplicitMidpoint,
 }
+
+/// Internal steps Dormand-Prince may attempt in one step before it gives up (the step ends
+/// non-finite and the world reports the divergence): bounds the work a stiff or hostile scene
+/// can ask of one tick.
+pub const DOPRI_MAX_ATTEMPTS: u32 = 10_000;
+
+/// The tolerance of [`Integrator::Dopri5`] when a scene gives none.
+pub const DEFAULT_TOLERANCE: f64 = 1e-8;
+
+/// Forest-Ruth's outer substep coefficient `1 / (2 - 2^(1/3))`.
+const FOREST_RUTH_C1: f64 = 1.351_207_191_959_657_8;
 
 /// Facts about an integrator, as used by the stability pre-check and the study.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -89,7 +155,9 @@ pub struct IntegratorInfo {
 
 impl Integrator {
     /// Every integrator, in the order tables list them.
-    pub const ALL: [Integrator; 7] = [
+    ///
+    /// The position is also the integrator's tag in keyframes, so new integrators are appended.
+    pub const ALL: [Integrator; 10] = [
         Integrator::ExplicitEuler,
         Integrator::SemiImplicitEuler,
         Integrator::VelocityVerlet,
@@ -97,6 +165,9 @@ impl Integrator {
         Integrator::Rk4,
         Integrator::ImplicitEuler,
         Integrator::Exact,
+        Integrator::ForestRuth,
+        Integrator::Dopri5,
+        Integrator::ImplicitMidpoint,
     ];
 
     /// The command-line name.
@@ -109,6 +180,9 @@ impl Integrator {
             Integrator::Rk4 => "rk4",
             Integrator::ImplicitEuler => "implicit-euler",
             Integrator::Exact => "exact",
+            Integrator::ForestRuth => "forest-ruth",
+            Integrator::Dopri5 => "dopri5",
+            Integrator::ImplicitMidpoint => "implicit-midpoint",
         }
     }
 
@@ -135,6 +209,9 @@ impl Integrator {
             Integrator::Rk4 => (4, false, Some(2.0 * 2f64.sqrt()), 2.785_293_563_405_282),
             Integrator::ImplicitEuler => (1, false, Some(f64::INFINITY), f64::INFINITY),
             Integrator::Exact => (u32::MAX, false, Some(f64::INFINITY), f64::INFINITY),
+            Integrator::ForestRuth => (4, true, Some(1.573_401_947_434_54), 1.134_424_004_107_53),
+            Integrator::Dopri5 => (5, false, Some(f64::INFINITY), f64::INFINITY),
+            Integrator::ImplicitMidpoint => (2, true, Some(f64::INFINITY), f64::INFINITY),
         };
         IntegratorInfo {
             order,
@@ -144,7 +221,8 @@ impl Integrator {
         }
     }
 
-    /// Force evaluations per body per step under `forces`.
+    /// Force evaluations per body per step under `forces` (for Dormand-Prince, a step taken in
+    /// one internal step: the fewest it can cost).
     pub fn evals_per_step(self, forces: &Forces) -> u64 {
         match self {
             Integrator::ExplicitEuler
@@ -154,6 +232,20 @@ impl Integrator {
             Integrator::Midpoint => 2,
             Integrator::Rk4 => 4,
             Integrator::Exact => 0,
+            Integrator::ForestRuth => 3,
+            Integrator::Dopri5 => 7,
+            Integrator::ImplicitMidpoint => 1 + u64::from(forces.has_nonlinear()),
+        }
+    }
+
+    /// Whether the integrator carries the end-of-step position force to the next step under
+    /// `forces` (velocity Verlet with position forces only, and Forest-Ruth always): then the
+    /// carried force is part of the state a keyframe holds.
+    pub fn carries_force(self, forces: &Forces) -> bool {
+        match self {
+            Integrator::VelocityVerlet => !forces.velocity_dependent(),
+            Integrator::ForestRuth => true,
+            _ => false,
         }
     }
 }
@@ -170,11 +262,20 @@ pub(crate) trait Scheme: Sync {
     const EVALS: u64;
     /// Whether the end-of-step force is carried to the next step (velocity Verlet).
     const CARRIES_FORCE: bool = false;
+    /// Whether the evaluations per step vary (Dormand-Prince): then callers count them with
+    /// [`Scheme::step_counted`] instead of [`Scheme::EVALS`].
+    const ADAPTIVE: bool = false;
     /// Advances one body of mass `w` by `h`. `carry` is the force at the start state when
     /// [`Scheme::CARRIES_FORCE`], otherwise unused; the returned force is the end state's.
     fn step(&self, s: BodyState, w: Mass, h: f64, carry: DVec3) -> (BodyState, DVec3);
     /// The carried force at a state (the start of a run, after a command or a seek).
     fn start_carry(&self, s: BodyState, w: Mass) -> DVec3;
+    /// [`Scheme::step`] and the force evaluations it cost.
+    #[inline(always)]
+    fn step_counted(&self, s: BodyState, w: Mass, h: f64, carry: DVec3) -> (BodyState, DVec3, u64) {
+        let (s, c) = self.step(s, w, h, carry);
+        (s, c, Self::EVALS)
+    }
 }
 
 /// Receives the [`Scheme`] chosen for a tick; the way to be generic over it.
@@ -189,22 +290,33 @@ pub(crate) trait SchemeVisitor {
 /// one applies, else the general [`Forces`]) and the scheme, once. Inlined into its callers
 /// (the step's stages): out of line, the visitor (a few hundred bytes of lane views) would be
 /// copied into each call.
+/// `tolerance` is Dormand-Prince's (the scene's `tolerance`); the other schemes ignore it.
 #[inline(always)]
-pub(crate) fn visit<V: SchemeVisitor>(integrator: Integrator, forces: &Forces, v: V) -> V::Out {
+pub(crate) fn visit<V: SchemeVisitor>(
+    integrator: Integrator,
+    forces: &Forces,
+    tolerance: f64,
+    v: V,
+) -> V::Out {
     if let Some(field) = forces.constant_field() {
-        return visit_model(integrator, &field, v);
+        return visit_model(integrator, &field, tolerance, v);
     }
     if let Some(field) = DragField::<false>::of(forces) {
-        return visit_model(integrator, &field, v);
+        return visit_model(integrator, &field, tolerance, v);
     }
     if let Some(field) = DragField::<true>::of(forces) {
-        return visit_model(integrator, &field, v);
+        return visit_model(integrator, &field, tolerance, v);
     }
-    visit_model(integrator, forces, v)
+    visit_model(integrator, forces, tolerance, v)
 }
 
 #[inline(always)]
-fn visit_model<F: ForceModel, V: SchemeVisitor>(integrator: Integrator, f: &F, v: V) -> V::Out {
+fn visit_model<F: ForceModel, V: SchemeVisitor>(
+    integrator: Integrator,
+    f: &F,
+    tolerance: f64,
+    v: V,
+) -> V::Out {
     match integrator {
         Integrator::ExplicitEuler => v.visit(ExplicitEuler(f)),
         Integrator::SemiImplicitEuler => v.visit(SemiImplicitEuler(f)),
@@ -214,6 +326,10 @@ fn visit_model<F: ForceModel, V: SchemeVisitor>(integrator: Integrator, f: &F, v
         Integrator::Rk4 => v.visit(Rk4(f)),
         Integrator::ImplicitEuler => v.visit(ImplicitEuler(f)),
         Integrator::Exact => v.visit(Exact(f)),
+        Integrator::ForestRuth => v.visit(ForestRuth(f)),
+        Integrator::Dopri5 => v.visit(Dopri5(f, tolerance)),
+        Integrator::ImplicitMidpoint if f.has_nonlinear() => v.visit(ImplicitMidpointSplit(f)),
+        Integrator::ImplicitMidpoint => v.visit(ImplicitMidpoint(f)),
     }
 }
 
@@ -227,7 +343,7 @@ pub fn evals_per_step(integrator: Integrator, forces: &Forces) -> u64 {
             S::EVALS
         }
     }
-    visit(integrator, forces, Evals)
+    visit(integrator, forces, DEFAULT_TOLERANCE, Evals)
 }
 
 /// Advances one body by `h` with any integrator: the reference path for tests and studies.
@@ -235,6 +351,7 @@ pub fn evals_per_step(integrator: Integrator, forces: &Forces) -> u64 {
 /// The stepping loop uses the same `Scheme` code, so results are bit-identical to a world's.
 /// `exact` on forces without a closed form returns the flow of their linear part alone (the
 /// other terms ignored); check [`Forces::without_closed_form`] first (scenes do).
+/// Dormand-Prince runs at [`DEFAULT_TOLERANCE`]; [`step_body_at`] takes one.
 pub fn step_body(
     integrator: Integrator,
     forces: &Forces,
@@ -242,20 +359,35 @@ pub fn step_body(
     m: f64,
     h: f64,
 ) -> BodyState {
+    step_body_at(integrator, forces, DEFAULT_TOLERANCE, s, m, h).0
+}
+
+/// [`step_body`] at Dormand-Prince tolerance `tolerance`, with the force evaluations the step
+/// cost (Verlet's and Forest-Ruth's start force included).
+pub fn step_body_at(
+    integrator: Integrator,
+    forces: &Forces,
+    tolerance: f64,
+    s: BodyState,
+    m: f64,
+    h: f64,
+) -> (BodyState, u64) {
     struct One {
         s: BodyState,
         w: Mass,
         h: f64,
     }
     impl SchemeVisitor for One {
-        type Out = BodyState;
-        fn visit<S: Scheme>(self, scheme: S) -> BodyState {
+        type Out = (BodyState, u64);
+        fn visit<S: Scheme>(self, scheme: S) -> (BodyState, u64) {
             let carry = scheme.start_carry(self.s, self.w);
-            scheme.step(self.s, self.w, self.h, carry).0
+            let start = u64::from(S::CARRIES_FORCE);
+            let (s, _, n) = scheme.step_counted(self.s, self.w, self.h, carry);
+            (s, n + start)
         }
     }
     let w = Mass::new(m);
-    visit(integrator, forces, One { s, w, h })
+    visit(integrator, forces, tolerance, One { s, w, h })
 }
 
 struct ExplicitEuler<'a, F>(&'a F);
@@ -266,6 +398,10 @@ struct Midpoint<'a, F>(&'a F);
 struct Rk4<'a, F>(&'a F);
 struct ImplicitEuler<'a, F>(&'a F);
 struct Exact<'a, F>(&'a F);
+struct ForestRuth<'a, F>(&'a F);
+struct Dopri5<'a, F>(&'a F, f64);
+struct ImplicitMidpoint<'a, F>(&'a F);
+struct ImplicitMidpointSplit<'a, F>(&'a F);
 
 impl<F: ForceModel> Scheme for ExplicitEuler<'_, F> {
     const EVALS: u64 = 1;
@@ -433,6 +569,297 @@ impl<F: ForceModel> Scheme for Exact<'_, F> {
         }
         let (p, v) = crate::exact::linear_drag_flow(s.p, s.mv * w.inv, lin.a0, lin.kd, h);
         (BodyState { p, mv: w.m * v }, DVec3::ZERO)
+    }
+    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+        DVec3::ZERO
+    }
+}
+
+/// Velocity terms' coefficients for one body: `a_vel(V) = -(kd + q |V|) V`.
+#[derive(Clone, Copy)]
+struct VelocityTerms {
+    kd: f64,
+    q: f64,
+}
+
+impl VelocityTerms {
+    #[inline(always)]
+    fn of<F: ForceModel>(f: &F, w: Mass) -> VelocityTerms {
+        VelocityTerms {
+            kd: f.linear_part(w.m).kd,
+            q: f.quadratic_drag() * w.inv,
+        }
+    }
+
+    /// Solves `v (1 + h/2 (kd + q |v|)) = rhs` for `v`. With `q = 0` it is `rhs / a`,
+    /// `a = 1 + h kd / 2` (`rhs` exactly with no velocity terms). Otherwise `v` is parallel to
+    /// `rhs`, scaled by `s / |rhs|` for the root `s` of `(h q / 2) s^2 + a s - |rhs| = 0` that
+    /// tends to `|rhs| / a` as `h q -> 0`: `2 / (a + sqrt(a^2 + 2 h q |rhs|))`, written so that
+    /// nothing cancels, or for `a <= 0` (a backward substep past the drag's stability limit)
+    /// `(sqrt(..) - a) / (h q |rhs|)`. A negative discriminant (a backward substep with strong
+    /// quadratic drag) has no real root: the state turns NaN and the world reports the
+    /// divergence.
+    #[inline(always)]
+    fn solve_half_kick(self, rhs: DVec3, h: f64) -> DVec3 {
+        let a = 1.0 + 0.5 * h * self.kd;
+        if self.q == 0.0 {
+            return rhs / a;
+        }
+        let r = rhs.length();
+        if r == 0.0 {
+            return rhs;
+        }
+        let hq = h * self.q;
+        let root = (a * a + 2.0 * hq * r).sqrt();
+        let scale = if a > 0.0 {
+            2.0 / (a + root)
+        } else {
+            (root - a) / (hq * r)
+        };
+        rhs * scale
+    }
+
+    #[inline(always)]
+    fn accel(self, v: DVec3) -> DVec3 {
+        -(self.kd + self.q * v.length()) * v
+    }
+}
+
+/// One generalised Störmer-Verlet step of length `h` from `s` with position force `fp0` at
+/// `s.p`: the new state and the position force at its position.
+#[inline(always)]
+fn generalized_verlet<F: ForceModel>(
+    f: &F,
+    vt: VelocityTerms,
+    s: BodyState,
+    w: Mass,
+    h: f64,
+    fp0: DVec3,
+) -> (BodyState, DVec3) {
+    let half = 0.5 * h;
+    let v_half = vt.solve_half_kick((s.mv + half * fp0) * w.inv, h);
+    let p = s.p + h * v_half;
+    let fp1 = f.force(p, DVec3::ZERO, w.m);
+    let mv = w.m * v_half + half * (fp1 + w.m * vt.accel(v_half));
+    (BodyState { p, mv }, fp1)
+}
+
+impl<F: ForceModel> Scheme for ForestRuth<'_, F> {
+    const EVALS: u64 = 3;
+    const CARRIES_FORCE: bool = true;
+    #[inline(always)]
+    fn step(&self, s: BodyState, w: Mass, h: f64, fp0: DVec3) -> (BodyState, DVec3) {
+        let vt = VelocityTerms::of(self.0, w);
+        let (c1, c2) = (FOREST_RUTH_C1, 1.0 - 2.0 * FOREST_RUTH_C1);
+        let (s, fp) = generalized_verlet(self.0, vt, s, w, c1 * h, fp0);
+        let (s, fp) = generalized_verlet(self.0, vt, s, w, c2 * h, fp);
+        generalized_verlet(self.0, vt, s, w, c1 * h, fp)
+    }
+    fn start_carry(&self, s: BodyState, w: Mass) -> DVec3 {
+        self.0.force(s.p, DVec3::ZERO, w.m)
+    }
+}
+
+/// The Dormand-Prince 5(4) tableau: stage coefficients `a`, the 5th-order weights (the last
+/// row of `a`, so the 7th stage is the next step's first) and the error weights `b5 - b4`.
+mod dp {
+    pub const A21: f64 = 1.0 / 5.0;
+    pub const A31: f64 = 3.0 / 40.0;
+    pub const A32: f64 = 9.0 / 40.0;
+    pub const A41: f64 = 44.0 / 45.0;
+    pub const A42: f64 = -56.0 / 15.0;
+    pub const A43: f64 = 32.0 / 9.0;
+    pub const A51: f64 = 19372.0 / 6561.0;
+    pub const A52: f64 = -25360.0 / 2187.0;
+    pub const A53: f64 = 64448.0 / 6561.0;
+    pub const A54: f64 = -212.0 / 729.0;
+    pub const A61: f64 = 9017.0 / 3168.0;
+    pub const A62: f64 = -355.0 / 33.0;
+    pub const A63: f64 = 46732.0 / 5247.0;
+    pub const A64: f64 = 49.0 / 176.0;
+    pub const A65: f64 = -5103.0 / 18656.0;
+    pub const B1: f64 = 35.0 / 384.0;
+    pub const B3: f64 = 500.0 / 1113.0;
+    pub const B4: f64 = 125.0 / 192.0;
+    pub const B5: f64 = -2187.0 / 6784.0;
+    pub const B6: f64 = 11.0 / 84.0;
+    pub const E1: f64 = 71.0 / 57600.0;
+    pub const E3: f64 = -71.0 / 16695.0;
+    pub const E4: f64 = 71.0 / 1920.0;
+    pub const E5: f64 = -17253.0 / 339200.0;
+    pub const E6: f64 = 22.0 / 525.0;
+    pub const E7: f64 = -1.0 / 40.0;
+}
+
+/// A state derivative on y = (p, mV): (V, F).
+#[derive(Clone, Copy)]
+struct Slope {
+    p: DVec3,
+    m: DVec3,
+}
+
+impl<F: ForceModel> Dopri5<'_, F> {
+    #[inline(always)]
+    fn slope(&self, p: DVec3, mv: DVec3, w: Mass) -> Slope {
+        let v = mv * w.inv;
+        Slope {
+            p: v,
+            m: self.0.force(p, v, w.m),
+        }
+    }
+}
+
+/// Largest of `|e_i| / (1 + max(|y0_i|, |y1_i|))` over the components of `e`.
+#[inline(always)]
+fn scaled_error(e: DVec3, y0: DVec3, y1: DVec3) -> f64 {
+    let scale = DVec3::ONE + y0.abs().max(y1.abs());
+    (e.abs() / scale).max_element()
+}
+
+impl<F: ForceModel> Scheme for Dopri5<'_, F> {
+    const EVALS: u64 = 7;
+    const ADAPTIVE: bool = true;
+    #[inline(always)]
+    fn step(&self, s: BodyState, w: Mass, h: f64, c: DVec3) -> (BodyState, DVec3) {
+        let (s, c, _) = self.step_counted(s, w, h, c);
+        (s, c)
+    }
+    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+        DVec3::ZERO
+    }
+    #[inline(never)]
+    fn step_counted(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3, u64) {
+        use dp::*;
+        let tol = self.1;
+        let failed = (
+            BodyState {
+                p: DVec3::NAN,
+                mv: DVec3::NAN,
+            },
+            DVec3::ZERO,
+        );
+        let (mut y, mut t) = (s, 0.0);
+        let mut k1 = self.slope(y.p, y.mv, w);
+        let mut evals = 1u64;
+        let mut trial = h;
+        for _ in 0..DOPRI_MAX_ATTEMPTS {
+            let remaining = h - t;
+            let last = trial >= remaining;
+            let d = if last { remaining } else { trial };
+            let at = |c: [f64; 5], k: [&Slope; 5]| {
+                let mut p = y.p;
+                let mut m = y.mv;
+                for (ci, ki) in c.iter().zip(k) {
+                    if *ci != 0.0 {
+                        p += (d * ci) * ki.p;
+                        m += (d * ci) * ki.m;
+                    }
+                }
+                (p, m)
+            };
+            let z = &k1;
+            let (p, m) = at([A21, 0.0, 0.0, 0.0, 0.0], [&k1, z, z, z, z]);
+            let k2 = self.slope(p, m, w);
+            let (p, m) = at([A31, A32, 0.0, 0.0, 0.0], [&k1, &k2, z, z, z]);
+            let k3 = self.slope(p, m, w);
+            let (p, m) = at([A41, A42, A43, 0.0, 0.0], [&k1, &k2, &k3, z, z]);
+            let k4 = self.slope(p, m, w);
+            let (p, m) = at([A51, A52, A53, A54, 0.0], [&k1, &k2, &k3, &k4, z]);
+            let k5 = self.slope(p, m, w);
+            let (p, m) = at([A61, A62, A63, A64, A65], [&k1, &k2, &k3, &k4, &k5]);
+            let k6 = self.slope(p, m, w);
+            let next_p = y.p + d * (B1 * k1.p + B3 * k3.p + B4 * k4.p + B5 * k5.p + B6 * k6.p);
+            let next_m = y.mv + d * (B1 * k1.m + B3 * k3.m + B4 * k4.m + B5 * k5.m + B6 * k6.m);
+            let k7 = self.slope(next_p, next_m, w);
+            evals += 6;
+            let err = |k: fn(&Slope) -> DVec3| {
+                d * (E1 * k(&k1)
+                    + E3 * k(&k3)
+                    + E4 * k(&k4)
+                    + E5 * k(&k5)
+                    + E6 * k(&k6)
+                    + E7 * k(&k7))
+            };
+            let norm = scaled_error(err(|k| k.p), y.p, next_p).max(scaled_error(
+                err(|k| k.m),
+                y.mv,
+                next_m,
+            )) / tol;
+            if !norm.is_finite() {
+                return (failed.0, failed.1, evals);
+            }
+            let accepted = norm <= 1.0;
+            if accepted {
+                y = BodyState {
+                    p: next_p,
+                    mv: next_m,
+                };
+                if last {
+                    return (y, DVec3::ZERO, evals);
+                }
+                t += d;
+                k1 = k7;
+            }
+            let grow = if norm == 0.0 {
+                5.0
+            } else {
+                (0.9 / norm.sqrt().sqrt()).clamp(0.2, 5.0)
+            };
+            trial = d * if accepted { grow } else { grow.min(1.0) };
+        }
+        (failed.0, failed.1, evals)
+    }
+}
+
+/// The linear terms' midpoint-rule velocity update: `V'` from `V`, the position offset
+/// `d = p - anchor` and the explicit acceleration `a_ex` (the constant part plus any other
+/// terms).
+#[inline(always)]
+fn midpoint_linear(
+    lin: &crate::forces::LinearPart,
+    v: DVec3,
+    d: DVec3,
+    a_ex: DVec3,
+    h: f64,
+) -> DVec3 {
+    let damp = 0.5 * h * lin.kd + 0.25 * h * h * lin.w2;
+    (v * (1.0 - damp) + h * (a_ex - lin.w2 * d)) / (1.0 + damp)
+}
+
+impl<F: ForceModel> Scheme for ImplicitMidpoint<'_, F> {
+    const EVALS: u64 = 1;
+    #[inline(always)]
+    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
+        let lin = self.0.linear_part(w.m);
+        let v = s.mv * w.inv;
+        let v1 = midpoint_linear(&lin, v, s.p - lin.anchor, lin.a0, h);
+        let next = BodyState {
+            p: s.p + (0.5 * h) * (v + v1),
+            mv: w.m * v1,
+        };
+        (next, DVec3::ZERO)
+    }
+    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+        DVec3::ZERO
+    }
+}
+
+impl<F: ForceModel> Scheme for ImplicitMidpointSplit<'_, F> {
+    const EVALS: u64 = 2;
+    #[inline(always)]
+    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
+        let f = self.0;
+        let lin = f.linear_part(w.m);
+        let v = s.mv * w.inv;
+        let half = 0.5 * h;
+        let (pm, vm) = (s.p + half * v, v + half * (f.force(s.p, v, w.m) * w.inv));
+        let a_ex = lin.a0 + f.nonlinear_force(pm, vm, w.m) * w.inv;
+        let v1 = midpoint_linear(&lin, v, s.p - lin.anchor, a_ex, h);
+        let next = BodyState {
+            p: s.p + half * (v + v1),
+            mv: w.m * v1,
+        };
+        (next, DVec3::ZERO)
     }
     fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
         DVec3::ZERO

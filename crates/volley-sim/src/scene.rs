@@ -13,7 +13,7 @@ use serde::Deserialize;
 use crate::contact::{Detection, Ground, Target, Wall};
 use crate::exact::{AimError, Arc, aim};
 use crate::forces::{ForceKind, Forces, PointMass, Spring};
-use crate::integrate::Integrator;
+use crate::integrate::{DEFAULT_TOLERANCE, Integrator};
 
 mod bundled;
 pub use bundled::{BUNDLED, bundled};
@@ -21,6 +21,18 @@ pub use bundled::{BUNDLED, bundled};
 /// Most integrator steps per tick a scene may ask for: beyond this a stiff scene wants implicit
 /// Euler, and a typo should not make a run take forever.
 pub const MAX_SUBSTEPS: u32 = 10_000;
+
+/// The smallest adaptive tolerance a scene may ask for: an error estimate of about 100 ulps of
+/// the state, below which rounding alone fails the test and the step would shrink to nothing.
+pub const MIN_TOLERANCE: f64 = 1e-14;
+
+fn check_tolerance(field: &str, x: f64) -> Result<f64, InvalidValue> {
+    if (MIN_TOLERANCE..=1.0).contains(&x) {
+        Ok(x)
+    } else {
+        Err(invalid(field, ValueProblem::Tolerance(x)))
+    }
+}
 /// Most bodies a `volley` may spawn (about 1 GB of state): a typo should be an error, not an
 /// allocation failure.
 pub const MAX_VOLLEY: u32 = 10_000_000;
@@ -44,6 +56,10 @@ pub struct Scene {
     pub integrator: Integrator,
     /// Integrator steps per tick (each `h / substeps` long). 1 unless stiffness asks for more.
     pub substeps: u32,
+    /// Error tolerance of the adaptive integrator ([`Integrator::Dopri5`]), from
+    /// [`MIN_TOLERANCE`] to 1 (default [`crate::integrate::DEFAULT_TOLERANCE`]); the fixed-step
+    /// integrators ignore it.
+    pub tolerance: f64,
     /// Declared force terms.
     pub forces: Forces,
     /// Ground plane, if any.
@@ -157,6 +173,7 @@ impl Scene {
             duration: self.duration,
             integrator: self.integrator,
             substeps: self.substeps,
+            tolerance: (self.tolerance != DEFAULT_TOLERANCE).then_some(self.tolerance),
             forces,
             ground: self.ground,
             walls: self.walls.clone(),
@@ -200,6 +217,12 @@ impl Scene {
     /// Overrides the timestep (s), rounded to whole nanoseconds.
     pub fn set_dt(&mut self, dt: f64) -> Result<(), InvalidValue> {
         self.timestep = timestep_from_secs("dt", dt)?;
+        Ok(())
+    }
+
+    /// Overrides the adaptive integrator's tolerance ([`MIN_TOLERANCE`] to 1).
+    pub fn set_tolerance(&mut self, tolerance: f64) -> Result<(), InvalidValue> {
+        self.tolerance = check_tolerance("tolerance", tolerance)?;
         Ok(())
     }
 
@@ -438,6 +461,8 @@ struct RawScene {
     integrator: Integrator,
     #[serde(default = "one_u32")]
     substeps: u32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    tolerance: Option<f64>,
     #[serde(default)]
     forces: Vec<ForceTerm>,
     #[serde(default)]
@@ -539,6 +564,8 @@ pub enum ValueProblem {
     Step(f64),
     /// Substeps per tick outside 1 to [`MAX_SUBSTEPS`].
     Substeps(u32),
+    /// An adaptive tolerance outside [`MIN_TOLERANCE`] to 1.
+    Tolerance(f64),
     /// A volley of more than [`MAX_VOLLEY`] bodies.
     VolleyCount(u32),
     /// A guard energy factor that is not a finite number > 1.
@@ -570,6 +597,10 @@ impl std::fmt::Display for ValueProblem {
                 write!(f, "expected a step from 1 ns to 1000 s, got {dt} s")
             }
             ValueProblem::Substeps(n) => write!(f, "expected 1 to {MAX_SUBSTEPS}, got {n}"),
+            ValueProblem::Tolerance(x) => write!(
+                f,
+                "expected a tolerance from {MIN_TOLERANCE:e} to 1 (smaller cannot be met in f64), got {x}"
+            ),
             ValueProblem::VolleyCount(n) => {
                 write!(f, "expected at most {MAX_VOLLEY} bodies, got {n}")
             }
@@ -686,6 +717,10 @@ fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Inva
     if !(1..=MAX_SUBSTEPS).contains(&raw.substeps) {
         return Err(invalid("substeps", ValueProblem::Substeps(raw.substeps)));
     }
+    let tolerance = match raw.tolerance {
+        Some(x) => check_tolerance("tolerance", x)?,
+        None => DEFAULT_TOLERANCE,
+    };
     let forces = validate_forces(&raw.forces)?;
     check_integrator(integrator, &forces)
         .map_err(|e| invalid("integrator", ValueProblem::Integrator(e)))?;
@@ -764,6 +799,7 @@ fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Inva
         walls,
         targets: raw.targets,
         compare: raw.compare,
+        tolerance,
         detection: raw.detection,
         bodies,
         launcher,

@@ -119,6 +119,8 @@ pub struct Params {
     pub h: f64,
     /// Integrator steps per tick (1 to [`crate::scene::MAX_SUBSTEPS`]).
     pub substeps: u32,
+    /// The adaptive integrator's tolerance (the scene's `tolerance`).
+    pub tolerance: f64,
     /// Sim time (s) of tick 0; tick n is at `start_time + n * h`.
     pub start_time: f64,
     /// Ground, walls, targets and how contacts are detected.
@@ -135,6 +137,7 @@ impl Params {
         Params {
             h: scene.timestep.as_nanos() as f64 * 1e-9,
             substeps: scene.substeps,
+            tolerance: scene.tolerance,
             start_time: scene.start_time,
             contacts: Contacts {
                 ground: scene.ground,
@@ -455,14 +458,13 @@ impl World {
     }
 
     /// Whether the carried force is state: velocity Verlet in its carrying form (forces of
-    /// position only) after a step. In its predicted form (drag) the buffer is not read, and
-    /// any switch between the forms goes through a command, which invalidates it.
+    /// position only) or Forest-Ruth, after a step. In Verlet's predicted form (drag) the buffer
+    /// is not read, and any switch between the forms goes through a command, which invalidates
+    /// it.
     fn carries_force(&self) -> bool {
-        use crate::forces::ForceModel;
         self.carry_valid
             && self.state.carry.len() == self.state.bodies.len()
-            && self.state.integrator == Integrator::VelocityVerlet
-            && !self.state.forces.velocity_dependent()
+            && self.state.integrator.carries_force(&self.state.forces)
     }
 
     /// Puts `s` back, or says why it cannot belong to this world's scene (lengths that differ,
@@ -470,7 +472,6 @@ impl World {
     /// term the scene does not declare, an integrator the forces refuse, a carried force
     /// without velocity Verlet). The divergence flag and the last tick's events are cleared.
     pub fn restore(&mut self, s: &State) -> Result<(), RestoreError> {
-        use crate::forces::ForceModel;
         let b = &s.bodies;
         let n = b.id.len();
         if !b.lengths_agree() {
@@ -503,8 +504,7 @@ impl World {
         if !(finite && l.speed >= 0.0 && l.mass > 0.0 && l.radius >= 0.0) {
             return Err(RestoreError::Launcher);
         }
-        let verlet = s.integrator == Integrator::VelocityVerlet;
-        if !s.carry.is_empty() && (s.carry.len() != n || !verlet || s.forces.velocity_dependent()) {
+        if !s.carry.is_empty() && (s.carry.len() != n || !s.integrator.carries_force(&s.forces)) {
             return Err(RestoreError::Carry);
         }
         self.state.assign_from(s, true);

@@ -65,6 +65,7 @@ impl World {
         let out = visit(
             self.state.integrator,
             &self.state.forces,
+            self.params.tolerance,
             Batch {
                 lanes,
                 saved: saved_lanes,

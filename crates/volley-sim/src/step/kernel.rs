@@ -42,6 +42,7 @@ impl World {
         let out = visit(
             self.state.integrator,
             &self.state.forces,
+            self.params.tolerance,
             Integrate {
                 lanes,
                 frame: &frame,
@@ -126,7 +127,7 @@ pub(super) fn fill_carry<S: Scheme>(scheme: &S, l: &mut Lanes) -> u64 {
         let f = scheme.start_carry(s, w);
         (l.cx[i], l.cy[i], l.cz[i]) = (f.x, f.y, f.z);
     }
-    l.len() as u64 * S::EVALS
+    l.len() as u64 // one evaluation per body
 }
 
 /// `true` unless a component is NaN or infinite; branch-free so the loop vectorises.
@@ -228,7 +229,8 @@ pub(super) fn run_lanes<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
         (&mut l.cx[..0], &mut l.cy[..0], &mut l.cz[..0])
     };
     let h = frame.h;
-    let mut evals = n as u64 * S::EVALS;
+    // An adaptive scheme counts its own evaluations, body by body.
+    let mut evals = if S::ADAPTIVE { 0 } else { n as u64 * S::EVALS };
     let mut all_finite = true;
     for i in 0..n {
         let w = if STREAMING {
@@ -248,7 +250,13 @@ pub(super) fn run_lanes<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
         } else {
             DVec3::ZERO
         };
-        let (mut s1, mut c1) = scheme.step(s0, w, h, c0);
+        let (mut s1, mut c1) = if S::ADAPTIVE {
+            let (s1, c1, n) = scheme.step_counted(s0, w, h, c0);
+            evals += n;
+            (s1, c1)
+        } else {
+            scheme.step(s0, w, h, c0)
+        };
         if CONTACTS && contact::needs_resolution(frame, l.radius[i], w.inv, &s0, &s1) {
             let body = Particle {
                 id: l.ids[i],

@@ -25,7 +25,10 @@ impl World {
         if self.scratch.chunk_events.len() < chunks {
             self.scratch.chunk_events.resize_with(chunks, Vec::new);
         }
-        let carries = self.state.integrator == crate::Integrator::VelocityVerlet;
+        let carries = matches!(
+            self.state.integrator,
+            crate::Integrator::VelocityVerlet | crate::Integrator::ForestRuth
+        );
         if carries && self.state.carry.len() != n {
             self.state.carry.resize(n);
             self.carry_valid = false;

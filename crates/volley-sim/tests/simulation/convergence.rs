@@ -110,3 +110,81 @@ fn exact_has_no_truncation_error_at_any_dt() {
         assert!(e < 1e-9, "{steps} steps: error {e} m");
     }
 }
+
+#[test]
+fn forest_ruth_is_fourth_order_on_a_spring() {
+    assert_order(SPRING, Integrator::ForestRuth, 10, 4.0);
+}
+
+#[test]
+fn forest_ruth_keeps_fourth_order_with_drag() {
+    // Its substep is the symmetric generalised Verlet (drag implicit in the first half kick);
+    // composing velocity Verlet's predicted form instead would give order 3 here.
+    assert_order(DRAG, Integrator::ForestRuth, 10, 4.0);
+}
+
+#[test]
+fn implicit_midpoint_is_second_order_on_drag_and_on_a_spring() {
+    assert_order(DRAG, Integrator::ImplicitMidpoint, 40, 2.0);
+    assert_order(SPRING, Integrator::ImplicitMidpoint, 40, 2.0);
+}
+
+/// `text` with Dormand-Prince at `tolerance`.
+fn dopri(text: &str, tolerance: f64) -> String {
+    text.replace(
+        "integrator: ExplicitEuler,",
+        &format!("integrator: Dopri5, tolerance: {tolerance:e},"),
+    )
+}
+
+#[test]
+fn dopri5_is_fifth_order_while_each_tick_is_one_internal_step() {
+    // Tolerance 1 accepts every first attempt on this smooth scene: plain DP5 steps.
+    assert_order(&dopri(DRAG, 1.0), Integrator::Dopri5, 5, 5.0);
+}
+
+#[test]
+fn dopri5_error_follows_the_tolerance_and_costs_more_as_it_tightens() {
+    // One 0.5 s tick is many internal steps at these tolerances. The controller holds the
+    // 4th-order estimate near tol per internal step (h ~ tol^(1/5)); the kept 5th-order
+    // solution errs ~h^6 ~ tol^(6/5) per step over ~tol^(-1/5) steps: global error ~ tol.
+    let tolerances = [1e-6, 1e-8, 1e-10, 1e-12];
+    let mut points = Vec::new();
+    for tol in tolerances {
+        let mut scene = scene::parse(&dopri(DRAG, tol), "inline.ron", "inline").unwrap();
+        scene.set_dt(0.5).unwrap();
+        let spec = scene.bodies[0];
+        let mut world = World::new(&scene);
+        for _ in 0..4 {
+            world.step().unwrap();
+        }
+        let start = BodyState {
+            p: spec.position,
+            mv: spec.mass * spec.velocity,
+        };
+        let exact = closed_form(&scene.forces, start, spec.mass, world.time()).unwrap();
+        let e = (world.bodies().positions().get(0) - exact.p).length();
+        points.push((tol, e, world.force_evals()));
+    }
+    println!("dopri5 (tolerance, error m, evaluations): {points:?}");
+    for pair in points.windows(2) {
+        let ((_, e0, n0), (_, e1, n1)) = (pair[0], pair[1]);
+        assert!(
+            e1 < e0,
+            "error must fall as the tolerance tightens: {points:?}"
+        );
+        assert!(
+            n1 > n0,
+            "cost must rise as the tolerance tightens: {points:?}"
+        );
+    }
+    // Least-squares slope of log(error) on log(tolerance): 1 in theory.
+    let xs: Vec<f64> = points.iter().map(|p| p.0.log10()).collect();
+    let ys: Vec<f64> = points.iter().map(|p| p.1.log10()).collect();
+    let n = xs.len() as f64;
+    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
+    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
+    let slope = sxy / sxx;
+    assert!((0.7..=1.3).contains(&slope), "slope {slope}: {points:?}");
+}

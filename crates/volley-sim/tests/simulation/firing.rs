@@ -83,8 +83,9 @@ fn every_integrator_hits_within_1e_9_m_on_the_seed_the_drag_and_the_wind_scene()
             }
         }
     }
-    // seed and drag: all 7 integrators; wind: 6 (no closed form for `exact`); 4 shots each.
-    assert_eq!(checked, (7 + 7 + 6) * 4);
+    // seed and drag: every integrator; wind: all but `exact` (no closed form); 4 shots each.
+    let all = I::ALL.len();
+    assert_eq!(checked, (all + all + all - 1) * 4);
 }
 
 #[test]

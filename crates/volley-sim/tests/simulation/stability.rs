@@ -101,8 +101,10 @@ fn a_damped_spring_lets_explicit_euler_be_stable_below_k_over_w_squared() {
 #[test]
 fn quadratic_drag_is_linearised_at_c_v_over_m_and_the_verdict_holds() {
     // At speed v the force -c |v| v is linear drag with b = c v: rate c v / m. At 60 Hz, 200 m/s
-    // with c = m = 1 is k h = 3.33 (every method outside), 60 m/s is k h = 1 (every one inside).
-    for (speed, stable) in [(200.0, false), (60.0, true)] {
+    // with c = m = 1 is k h = 3.33 (every fixed-step method outside), 60 m/s is k h = 1 (every
+    // one inside but Forest-Ruth, whose backward substep has no real solution past
+    // k h = 1 / (2 |c2|) = 0.29). Dormand-Prince's controller keeps it stable at both.
+    for (speed, stable_fixed) in [(200.0, false), (60.0, true)] {
         let text = format!(
             "Scene(dt: 0.016666667, integrator: SemiImplicitEuler, forces: [QuadraticDrag(1.0)],
              bodies: [(mass: 1.0, position: (0, 0, 0), launch: Velocity(({speed}, 0, 0)))])"
@@ -112,10 +114,24 @@ fn quadratic_drag_is_linearised_at_c_v_over_m_and_the_verdict_holds() {
         let (_, s) = report.stiffest.unwrap();
         assert_eq!(s.k_nl, speed);
         for v in &report.verdicts {
+            let stable = match v.integrator {
+                Dopri5 => true,
+                ForestRuth => false,
+                _ => stable_fixed,
+            };
             assert_eq!(v.stable, stable, "{} at {speed} m/s", v.integrator);
+            // The one verdict that is conservative: at 200 m/s Forest-Ruth's first substep
+            // slows the body from 200 to about 8 m/s (the drag is that strong), so the backward
+            // substep finds a root and the run survives; at 60 m/s it slows only to 22 m/s,
+            // and 2 |c2| h k = 1.25 > 1 there: NaN at the first tick.
+            let runs_fine = if v.integrator == ForestRuth {
+                speed > 100.0
+            } else {
+                stable
+            };
             assert_eq!(
                 diverges(&scene, v.integrator, 60),
-                !stable,
+                !runs_fine,
                 "{} at {speed}",
                 v.integrator
             );

@@ -42,7 +42,7 @@ fn swept_detection_finds_the_impact_inside_the_step() {
         match integrator {
             // Exact under gravity: the path is the parabola, the root is t* (to the root
             // finder's few ulps).
-            VelocityVerlet | Midpoint | Rk4 | Exact => {
+            VelocityVerlet | Midpoint | Rk4 | Exact | ForestRuth | Dopri5 | ImplicitMidpoint => {
                 assert!((t - t_star).abs() < 1e-9, "{integrator}: {t} vs {t_star}")
             }
             // The Euler methods' own paths are high (explicit) or low (the other two) by
