@@ -19,6 +19,9 @@ pub fn integrator(integrator: Integrator) -> Rgba {
         Integrator::Rk4 => [80, 160, 245, 255],
         Integrator::ImplicitEuler => [60, 205, 200, 255],
         Integrator::Exact => [160, 160, 160, 255],
+        Integrator::ForestRuth => [230, 110, 180, 255],
+        Integrator::Dopri5 => [150, 190, 60, 255],
+        Integrator::ImplicitMidpoint => [210, 150, 110, 255],
     }
 }
 

@@ -159,8 +159,9 @@ pub const SHORTCUTS: [(&str, &str); 24] = [
     ),
     ("L", "go live: end a replay and run on from its state"),
     (
-        "1 to 7",
-        "integrator: explicit Euler, semi-implicit Euler, Verlet, midpoint, RK4, implicit Euler, exact",
+        "1 to 9, 0",
+        "integrator: explicit Euler, semi-implicit Euler, Verlet, midpoint, RK4, implicit Euler, \
+         exact, Forest-Ruth, Dormand-Prince, implicit midpoint",
     ),
     ("[ and ]", "time scale / 2, x 2"),
     ("- and =", "dt / 2, x 2 (restarts at tick 0)"),
@@ -226,8 +227,9 @@ pub fn action_for_key(key: &Key) -> Option<Action> {
             "y" => A::ToggleVectors,
             "p" => A::Screenshot,
             digit => {
+                // 1 to 9, then 0 for the tenth, as on the keyboard row.
                 let k = digit.parse::<usize>().ok()?;
-                A::SetIntegrator(*Integrator::ALL.get(k.checked_sub(1)?)?)
+                A::SetIntegrator(*Integrator::ALL.get(if k == 0 { 9 } else { k - 1 })?)
             }
         },
         _ => return None,
@@ -249,7 +251,14 @@ mod tests {
             action_for_key(&key("7")),
             Some(Action::SetIntegrator(Integrator::Exact))
         );
-        assert_eq!(action_for_key(&key("8")), None);
-        assert_eq!(action_for_key(&key("0")), None);
+        assert_eq!(
+            action_for_key(&key("8")),
+            Some(Action::SetIntegrator(Integrator::ForestRuth))
+        );
+        assert_eq!(
+            action_for_key(&key("0")),
+            Some(Action::SetIntegrator(Integrator::ImplicitMidpoint))
+        );
+        assert_eq!(action_for_key(&key("11")), None);
     }
 }

@@ -32,6 +32,10 @@ pub struct Overrides {
     /// Integrator steps per tick.
     #[arg(long)]
     pub substeps: Option<u32>,
+    /// Error tolerance of the adaptive integrator, dopri5 (replaces the scene's `tolerance`;
+    /// the fixed-step integrators ignore it).
+    #[arg(long)]
+    pub tolerance: Option<f64>,
 }
 
 /// What `volley headless` and `volley record` both take: the scene, its overrides, how long to
@@ -143,7 +147,8 @@ pub fn load_scene(arg: &str, overrides: &Overrides) -> Result<(PathBuf, Scene), 
     Ok((path, scene))
 }
 
-/// Applies `--dt`, `--substeps` and `--integrator` to `scene`, each refusal naming its flag.
+/// Applies `--dt`, `--substeps`, `--integrator` and `--tolerance` to `scene`, each refusal
+/// naming its flag.
 pub fn apply_overrides(scene: &mut Scene, overrides: &Overrides) -> Result<(), Failure> {
     if let Some(dt) = overrides.dt {
         scene
@@ -159,6 +164,11 @@ pub fn apply_overrides(scene: &mut Scene, overrides: &Overrides) -> Result<(), F
         scene
             .set_integrator(integrator)
             .map_err(|e| fail(EXIT_INPUT, format!("--integrator: {e}")))?;
+    }
+    if let Some(tolerance) = overrides.tolerance {
+        scene
+            .set_tolerance(tolerance)
+            .map_err(|e| fail(EXIT_INPUT, format!("--tolerance: {e}")))?;
     }
     Ok(())
 }

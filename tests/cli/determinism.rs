@@ -86,3 +86,31 @@ fn golden_replay_verifies_every_tick_and_its_final_hash_is_pinned() {
     assert_eq!(hex(state_hash(replay.world())), GOLDEN_REPLAY_FINAL_HASH);
     assert_eq!(hex(footer.final_hash), GOLDEN_REPLAY_FINAL_HASH);
 }
+
+/// The three integrators added after the golden recording, each pinned on the replay coverage
+/// scene (a seeded volley, bounces, a wall, a target, a spring and drag) after 300 ticks: the
+/// carried force of Forest-Ruth, Dormand-Prince's step choice and its counted evaluations, and
+/// implicit midpoint's split forms all decide these bits, in debug and in release.
+const NEW_INTEGRATOR_HASHES: [(volley::Integrator, &str); 3] = [
+    (volley::Integrator::ForestRuth, "0xb504a903c8cb2e84"),
+    (volley::Integrator::Dopri5, "0x304b95f800869c35"),
+    (volley::Integrator::ImplicitMidpoint, "0x15074ff363cd3325"),
+];
+
+#[test]
+fn the_new_integrators_hashes_are_pinned() {
+    let mut got = Vec::new();
+    for (integrator, _) in NEW_INTEGRATOR_HASHES {
+        let mut scene = scene::load(Path::new("tests/data/replay_scene.ron")).unwrap();
+        scene.set_integrator(integrator).unwrap();
+        let mut sim = SimLoop::new(World::new(&scene));
+        sim.run_until(300, &mut VirtualClock::Steady(scene.timestep), &mut ())
+            .unwrap();
+        got.push((integrator, hex(state_hash(&sim.world))));
+    }
+    let want: Vec<_> = NEW_INTEGRATOR_HASHES
+        .iter()
+        .map(|(i, h)| (*i, h.to_string()))
+        .collect();
+    assert_eq!(got, want);
+}

@@ -143,3 +143,44 @@ fn the_window_opens_the_lanes_of_compare_with_their_steps() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains(", dt 0.08 s x2,"), "{stdout}");
 }
+
+#[test]
+fn the_new_integrators_run_as_lanes_and_report_their_counted_cost() {
+    let test = "the_new_integrators_run_as_lanes_and_report_their_counted_cost";
+    let args = [
+        "window",
+        "drag",
+        "--compare",
+        "forest-ruth,dopri5,implicit-midpoint",
+        "--exit-after-frames",
+        "30",
+        "--no-watch",
+    ];
+    let Some(stdout) = crate::window_smoke::window_stdout(test, &args, "640x400") else {
+        return;
+    };
+    // Per sim second at 60 Hz over 30 ticks: Forest-Ruth 3 a step plus the start force
+    // (91 / 0.5 s), Dormand-Prince at least 7 a tick (one internal step when the estimate
+    // passes at once), implicit midpoint 1 (linear terms only).
+    for (lane, evals) in [
+        ("forest-ruth", 182.0),
+        ("dopri5", 420.0),
+        ("implicit-midpoint", 60.0),
+    ] {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(&format!("lane {lane}: tick 30,")))
+            .unwrap_or_else(|| panic!("no lane {lane}: {stdout}"));
+        let got: f64 = line
+            .split(", ")
+            .find_map(|p| p.strip_suffix(" force evaluations per sim second"))
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{line}"));
+        if lane == "dopri5" {
+            // 1 + 6 per attempt a tick: (30 + 6 attempts) / 0.5 s.
+            assert!(got >= evals && (got - 60.0) % 12.0 == 0.0, "{line}");
+        } else {
+            assert_eq!(got, evals, "{line}");
+        }
+    }
+}

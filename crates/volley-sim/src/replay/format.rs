@@ -301,6 +301,11 @@ pub struct Header {
     pub substeps: u32,
     /// Integrator at the start tick.
     pub integrator: Integrator,
+    /// The adaptive integrator's tolerance after any override; absent (older files, and the
+    /// default) means [`crate::integrate::DEFAULT_TOLERANCE`], so files that never used it
+    /// are byte-identical to before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
     /// Tick of the first keyframe, where the recording starts.
     pub start_tick: u64,
     /// Hashes are stored at ticks that are multiples of this (and at the start and end).

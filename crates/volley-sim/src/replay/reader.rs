@@ -241,6 +241,9 @@ impl<R: Read + Seek> Recording<R> {
         scene
             .set_integrator(h.integrator)
             .map_err(|e| fail(format!("header: {e}")))?;
+        scene
+            .set_tolerance(h.tolerance.unwrap_or(crate::integrate::DEFAULT_TOLERANCE))
+            .map_err(|e| fail(format!("header: {e}")))?;
         Ok(scene)
     }
 

@@ -134,6 +134,8 @@ impl<W: Write> Recorder<W> {
             timestep_ns: scene.timestep.as_nanos() as u64,
             substeps: world.substeps(),
             integrator: world.integrator(),
+            tolerance: (world.params().tolerance != crate::integrate::DEFAULT_TOLERANCE)
+                .then_some(world.params().tolerance),
             start_tick: world.tick(),
             hash_every: options.hash_every,
             keyframe_every: options.keyframe_every,

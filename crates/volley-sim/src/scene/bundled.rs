@@ -60,6 +60,10 @@ pub const BUNDLED: &[(&str, &str)] = &[
         include_str!("../../../../assets/scenes/hard/one_hour.ron"),
     ),
     (
+        "hard/quadratic_throw",
+        include_str!("../../../../assets/scenes/hard/quadratic_throw.ron"),
+    ),
+    (
         "hard/stiff_spring",
         include_str!("../../../../assets/scenes/hard/stiff_spring.ron"),
     ),

@@ -1,10 +1,11 @@
-//! The twelve hard cases of docs/physics.md ("Hard cases"), one scene each under `assets/scenes/hard/`, asserted for
+//! The thirteen hard cases of docs/physics.md ("Hard cases"), one scene each under `assets/scenes/hard/`, asserted for
 //! every integrator: who stays bounded, who diverges, and when the guard catches it.
 //!
 //! Every expected number is derived in the test from the math of the case (growth factors of
 //! the linear test equation, closed forms, the clock's documented rule), never copied from a run.
 
 mod contact;
+mod drag;
 mod orbit;
 mod precision;
 mod stiff;
