@@ -501,3 +501,38 @@ fn three_shards_and_a_merge_write_what_one_run_writes() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn the_report_on_one_thread_is_the_report_on_every_core() {
+    let dir = scratch("threads");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("air.ron");
+    std::fs::write(&scene, AIR).unwrap();
+    let args = [
+        "study",
+        scene.to_str().unwrap(),
+        "--dt-range",
+        "0.1..0.0125",
+        "--points",
+        "4",
+        "--integrators",
+        "all",
+        "--tolerance",
+        "1e-4",
+        "--no-timing",
+        "--out",
+        dir.to_str().unwrap(),
+    ];
+    let envs = |threads: &str| [("RAYON_NUM_THREADS", threads.to_string())];
+    let run = |threads: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_volley"))
+            .args(args)
+            .envs(envs(threads))
+            .output()
+            .unwrap();
+        ok(&out)
+    };
+    // Four threads even on a smaller machine, so the points of a dt do run interleaved.
+    assert_eq!(run("1"), run("4"));
+    std::fs::remove_dir_all(dir).unwrap();
+}
