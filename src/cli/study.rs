@@ -1,5 +1,6 @@
 //! `volley study`: sweep integrators and timesteps over a scene; write the markdown report, the
-//! CSV and the work-precision plot.
+//! CSV and the work-precision plot. `--shard I/N` measures one share of the points and writes a
+//! partial result instead; `--merge FILES...` turns the shards' files into the report.
 
 use std::path::PathBuf;
 
@@ -8,7 +9,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use volley::Integrator;
 use volley::scene;
-use volley::study::{self, StudyConfig};
+use volley::study::{self, Shard, ShardResult, StudyConfig, StudyReport};
 
 use super::args::parse_integrator;
 use super::{EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail, resolve_scene};
@@ -17,7 +18,8 @@ use super::{EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail, resolve_scene};
 #[derive(Args, Clone)]
 pub struct StudyArgs {
     /// Scene file, or the name of a bundled scene (see `volley scenes`).
-    pub scene: String,
+    #[arg(required_unless_present = "merge")]
+    pub scene: Option<String>,
     /// Integrators, comma-separated, or `all` (default: every one the scene allows but exact).
     #[arg(long, value_delimiter = ',')]
     pub integrators: Option<Vec<String>>,
@@ -48,6 +50,35 @@ pub struct StudyArgs {
     /// Skip the wall-time measurement (errors and evaluation counts only).
     #[arg(long)]
     pub no_timing: bool,
+    /// Measure only shard I of N (numbered from 0: points k with k mod N = I of the dt-major
+    /// list) and write its partial result, NAME.shard-I-of-N.json, to the output folder.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// Merge the partial results of every shard of one study into its report and files.
+    #[arg(long, value_name = "FILE", num_args = 1.., conflicts_with_all = [
+        "scene", "integrators", "dt", "dt_range", "points", "until", "tolerance", "substeps",
+        "windows", "no_timing", "shard",
+    ])]
+    pub merge: Option<Vec<PathBuf>>,
+}
+
+/// Parses `I/N` with `0 <= I < N`.
+fn shard(text: &str) -> Result<Shard, Failure> {
+    let bad = || {
+        fail(
+            EXIT_INPUT,
+            format!("--shard: expected I/N with 0 <= I < N (shards numbered from 0), got `{text}`"),
+        )
+    };
+    let (i, n) = text.split_once('/').ok_or_else(bad)?;
+    let shard = Shard {
+        index: i.trim().parse().map_err(|_| bad())?,
+        count: n.trim().parse().map_err(|_| bad())?,
+    };
+    if !shard.is_valid() {
+        return Err(bad());
+    }
+    Ok(shard)
 }
 
 /// Parses `A..B` with N points into log-spaced steps from A to B.
@@ -114,9 +145,17 @@ fn config(args: &StudyArgs, scene: &scene::Scene) -> Result<StudyConfig, Failure
 }
 
 /// Runs the study: pre-check warnings to stderr, a progress bar on stderr (hidden when stderr
-/// is not a terminal), the markdown report to stdout, the files to the output folder.
+/// is not a terminal), the markdown report to stdout, the files to the output folder. With
+/// `--shard`, the partial result file instead; with `--merge`, the report of the shards' files.
 pub fn run(args: &StudyArgs) -> Result<(), Failure> {
-    let path = resolve_scene(&args.scene)?;
+    if let Some(files) = &args.merge {
+        return merge(files, args.out.as_ref());
+    }
+    let name = args
+        .scene
+        .as_deref()
+        .ok_or_else(|| fail(EXIT_INPUT, "study: expected a scene or --merge FILES"))?;
+    let path = resolve_scene(name)?;
     let mut scene = scene::load(&path).map_err(|e| fail(EXIT_INPUT, e))?;
     if let Some(n) = args.substeps {
         scene
@@ -124,6 +163,7 @@ pub fn run(args: &StudyArgs) -> Result<(), Failure> {
             .map_err(|e| fail(EXIT_INPUT, format!("--substeps: {e}")))?;
     }
     let config = config(args, &scene)?;
+    let part = args.shard.as_deref().map(shard).transpose()?;
     for line in study::precheck_lines(&scene, &config) {
         eprintln!("warning: {line}");
     }
@@ -135,34 +175,79 @@ pub fn run(args: &StudyArgs) -> Result<(), Failure> {
         ProgressStyle::with_template("{bar:30} {pos}/{len} runs  {msg}  [{elapsed}]")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    let report = study::run(&scene, &config, &mut |p| {
+    let mut progress = |p: study::Progress| {
         bar.set_length(p.total);
         bar.set_position(p.done);
         bar.set_message(p.message);
-    });
+    };
+    let stem = stem_of(&scene.name);
+    let dir = out_dir(args.out.as_ref(), &stem);
+    if let Some(part) = part {
+        let result = study::run_shard(&scene, &config, part, &mut progress);
+        bar.finish_and_clear();
+        let result = result.map_err(|e| fail(EXIT_INPUT, e))?;
+        std::fs::create_dir_all(&dir).map_err(|e| io(&dir, e))?;
+        let file = dir.join(format!(
+            "{stem}.shard-{}-of-{}.json",
+            part.index, part.count
+        ));
+        std::fs::write(&file, result.to_json()).map_err(|e| io(&file, e))?;
+        eprintln!(
+            "wrote {} ({} of the study's points)",
+            file.display(),
+            result.points.len()
+        );
+        return Ok(());
+    }
+    let report = study::run(&scene, &config, &mut progress);
     bar.finish_and_clear();
     let report = report.map_err(|e| fail(EXIT_INPUT, e))?;
-    let markdown = study::output::markdown(&report);
+    write_report(&report, &dir, &stem)
+}
+
+/// `--merge`: reads every shard file, merges them into the report, writes it as a study does.
+fn merge(files: &[PathBuf], out: Option<&PathBuf>) -> Result<(), Failure> {
+    let mut parts = Vec::with_capacity(files.len());
+    for path in files {
+        let label = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| fail(EXIT_INPUT, format!("{label}: cannot read: {e}")))?;
+        let part = ShardResult::from_json(&text, &label).map_err(|e| fail(EXIT_INPUT, e))?;
+        parts.push((label, part));
+    }
+    let report = study::shard::merge(&parts).map_err(|e| fail(EXIT_INPUT, e))?;
+    let stem = stem_of(&report.scene);
+    write_report(&report, &out_dir(out, &stem), &stem)
+}
+
+fn stem_of(scene: &str) -> String {
+    scene.replace(['/', '\\'], "_")
+}
+
+fn out_dir(out: Option<&PathBuf>, stem: &str) -> PathBuf {
+    out.cloned()
+        .unwrap_or_else(|| PathBuf::from("study").join(stem))
+}
+
+fn io(what: &std::path::Path, e: std::io::Error) -> Failure {
+    fail(
+        EXIT_ENVIRONMENT,
+        format!("{}: cannot write: {e}", what.display()),
+    )
+}
+
+/// The markdown report to stdout, then `STEM.{md,csv,svg,png}` in `dir`.
+fn write_report(report: &StudyReport, dir: &std::path::Path, stem: &str) -> Result<(), Failure> {
+    let markdown = study::output::markdown(report);
     print!("{markdown}");
     // The report goes out before the stderr line naming the files.
     let _ = std::io::Write::flush(&mut std::io::stdout());
-    let stem = scene.name.replace(['/', '\\'], "_");
-    let dir = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("study").join(&stem));
-    let io = |what: &PathBuf, e: std::io::Error| {
-        fail(
-            EXIT_ENVIRONMENT,
-            format!("{}: cannot write: {e}", what.display()),
-        )
-    };
-    std::fs::create_dir_all(&dir).map_err(|e| io(&dir, e))?;
-    let svg = volley::plot::svg(&report).map_err(|e| fail(EXIT_ENVIRONMENT, e))?;
-    let png = volley::plot::png(&report).map_err(|e| fail(EXIT_ENVIRONMENT, e))?;
+    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+    let svg = volley::plot::svg(report).map_err(|e| fail(EXIT_ENVIRONMENT, e))?;
+    let png = volley::plot::png(report).map_err(|e| fail(EXIT_ENVIRONMENT, e))?;
     let files: [(&str, Vec<u8>); 4] = [
         ("md", markdown.into_bytes()),
-        ("csv", study::output::csv(&report).into_bytes()),
+        ("csv", study::output::csv(report).into_bytes()),
         ("svg", svg.into_bytes()),
         ("png", png),
     ];

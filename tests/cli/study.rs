@@ -111,11 +111,68 @@ fn the_reference_is_the_best_one_available() {
         ReferenceKind::ClosedForm,
         "no contacts, linear spring"
     );
-    let text = "Scene(dt: 0.05, duration: 3.0, integrator: Rk4,
-        forces: [Gravity((0, 0, -9.81)), QuadraticDrag(0.02)],
-        bodies: [(mass: 1.0, position: (0, 0, 1), launch: Velocity((20.0, 0, 20.0)))])";
-    let air = scene::parse(text, "air.ron", "air").unwrap();
-    let r = study(&air, &[Rk4, VelocityVerlet], &[0.05, 0.025]);
+}
+
+/// A shot under quadratic drag (no closed form), with no ground.
+const AIR: &str = "Scene(dt: 0.05, duration: 3.0, integrator: Rk4,
+    forces: [Gravity((0, 0, -9.81)), QuadraticDrag(0.02)],
+    bodies: [(mass: 1.0, position: (0, 0, 1), launch: Velocity((20.0, 0, 20.0)))])";
+
+#[test]
+fn quadratic_drag_is_measured_against_the_extrapolation_reference() {
+    let air = scene::parse(AIR, "air.ron", "air").unwrap();
+    let r = study(&air, &[Rk4, VelocityVerlet], &[0.1, 0.05, 0.025]);
+    let smallest = r
+        .points
+        .iter()
+        .map(|p| p.errors.unwrap().final_position)
+        .fold(f64::INFINITY, f64::min);
+    for reference in &r.references {
+        let ReferenceKind::Extrapolation {
+            tolerance,
+            error_estimate,
+        } = reference.kind
+        else {
+            panic!("no contacts, no closed form: {:?}", reference.kind)
+        };
+        assert_eq!(tolerance, study::reference::EXTRAPOLATION_TOLERANCE);
+        // Far below every measured error: a thousandth of the smallest (RK4 at the finest dt).
+        assert!(
+            error_estimate > 0.0 && error_estimate < smallest / 1000.0,
+            "{error_estimate} vs {smallest}"
+        );
+    }
+    // A reference good to its estimate leaves RK4 its fourth order (and Verlet its second);
+    // a poor one would flatten the slopes at its own error.
+    for (i, fit) in &r.orders {
+        let OrderFit::Fitted { order, points: 3 } = fit else {
+            panic!("{i}: {fit:?}")
+        };
+        let documented = f64::from(i.info().order);
+        assert!((order - documented).abs() < 0.2, "{i}: {order}");
+    }
+    let md = study::output::markdown(&r);
+    assert!(
+        md.contains("- dt = 0.100: extrapolation (adaptive Gragg-Bulirsch-Stoer"),
+        "{md}"
+    );
+    assert!(md.contains("its own error estimate: about "), "{md}");
+    let estimate = format!("{:?}", r.references[0].error_estimate());
+    let first_row = study::output::csv(&r).lines().nth(1).unwrap().to_string();
+    assert!(first_row.ends_with(&format!(",{estimate}")), "{first_row}");
+}
+
+#[test]
+fn with_contacts_and_no_closed_form_the_reference_is_rk4_at_a_sixteenth_of_the_finest_dt() {
+    // The same shot over a ground: the extrapolation would step over the impact.
+    let text = AIR
+        .replace(
+            "bodies:",
+            "ground: (height: 0.0, restitution: 0.5), bodies:",
+        )
+        .replace("duration: 3.0", "duration: 5.0");
+    let grounded = scene::parse(&text, "air.ron", "air").unwrap();
+    let r = study(&grounded, &[Rk4, VelocityVerlet], &[0.05, 0.025]);
     let reference = &r.references[0];
     let ReferenceKind::Rk4 {
         substeps,
@@ -123,13 +180,20 @@ fn the_reference_is_the_best_one_available() {
         ..
     } = reference.kind
     else {
-        panic!("quadratic drag has no closed form: {:?}", reference.kind)
+        panic!("contacts and quadratic drag: {:?}", reference.kind)
     };
     assert_eq!(substeps, 32, "at most 1/16 of the finest dt studied");
-    let rk4 = point(&r, Rk4, 0.05).errors.unwrap().max_position;
+    let rk4 = point(&r, Rk4, 0.05);
+    assert!(rk4.events.reference > 0, "the shot lands within 5 s");
+    let rk4 = rk4.errors.unwrap().max_position;
     assert!(
         error_estimate > 0.0 && error_estimate < rk4 / 100.0,
         "{error_estimate} vs {rk4}"
+    );
+    assert!(
+        reference.describe().contains("the scene has contacts"),
+        "{}",
+        reference.describe()
     );
 }
 
@@ -319,4 +383,156 @@ fn bad_study_arguments_exit_2_with_one_line() {
         assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
         assert_eq!(stderr.lines().count(), 1, "{stderr}");
     }
+}
+
+/// `volley study` on the air scene (written to `dir`) with `extra` arguments: its output.
+fn air_study(dir: &Path, extra: &[&str]) -> std::process::Output {
+    let scene = dir.join("air.ron");
+    std::fs::write(&scene, AIR).unwrap();
+    let mut args = vec![
+        "study",
+        scene.to_str().unwrap(),
+        "--dt",
+        "0.1,0.05,0.025",
+        "--integrators",
+        "explicit-euler,verlet,rk4",
+        "--tolerance",
+        "0.001",
+        "--no-timing",
+    ];
+    args.extend_from_slice(extra);
+    volley(&args)
+}
+
+fn ok(run: &std::process::Output) -> String {
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    String::from_utf8(run.stdout.clone()).unwrap()
+}
+
+#[test]
+fn three_shards_and_a_merge_write_what_one_run_writes() {
+    let dir = scratch("shards");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (one, parts, merged) = (dir.join("one"), dir.join("parts"), dir.join("merged"));
+    let whole = ok(&air_study(&dir, &["--out", one.to_str().unwrap()]));
+    for i in 0..3 {
+        let shard = format!("{i}/3");
+        let run = air_study(&dir, &["--shard", &shard, "--out", parts.to_str().unwrap()]);
+        assert_eq!(ok(&run), "", "a shard writes its file, not a report");
+    }
+    let files: Vec<String> = (0..3)
+        .map(|i| {
+            parts
+                .join(format!("air.shard-{i}-of-3.json"))
+                .display()
+                .to_string()
+        })
+        .collect();
+    let mut args = vec!["study", "--merge"];
+    args.extend(files.iter().map(String::as_str));
+    args.extend(["--out", merged.to_str().unwrap()]);
+    let report = ok(&volley(&args));
+    // Timing is off in both, so there are no wall times to mask: every byte must agree,
+    // the observed orders and the cheapest setting included (fitted over all nine points).
+    assert_eq!(report, whole);
+    assert!(
+        report.contains("Cheapest setting that meets it"),
+        "{report}"
+    );
+    for ext in ["md", "csv", "svg", "png"] {
+        let file = format!("air.{ext}");
+        assert!(
+            std::fs::read(one.join(&file)).unwrap() == std::fs::read(merged.join(&file)).unwrap(),
+            "{file} differs"
+        );
+    }
+    // Bad merges: one line naming the problem (and the file), exit 2.
+    let bad = |args: &[&str], expected: &str| {
+        let run = volley(args);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.starts_with(expected), "{stderr}");
+    };
+    bad(
+        &["study", "--merge", &files[0], &files[2]],
+        "error: missing shard 1/3: the files given hold shards 0, 2 of 3",
+    );
+    bad(
+        &[
+            "study", "--merge", &files[0], &files[1], &files[1], &files[2],
+        ],
+        &format!(
+            "error: {}: shard 1/3 given twice (also {})",
+            files[1], files[1]
+        ),
+    );
+    let other = dir.join("other");
+    ok(&air_study(
+        &dir,
+        &[
+            "--until",
+            "2.0",
+            "--shard",
+            "1/3",
+            "--out",
+            other.to_str().unwrap(),
+        ],
+    ));
+    let other_file = other.join("air.shard-1-of-3.json").display().to_string();
+    bad(
+        &["study", "--merge", &files[0], &other_file, &files[2]],
+        &format!("error: {other_file}: the study configuration"),
+    );
+    let broken = dir.join("broken.json");
+    std::fs::write(&broken, "{\"format\": \"volley-study-shard\"").unwrap();
+    let broken = broken.display().to_string();
+    bad(
+        &["study", "--merge", &files[0], &broken],
+        &format!("error: {broken}: expected a study shard file"),
+    );
+    bad(
+        &["study", "seed", "--shard", "3/3"],
+        "error: --shard: expected I/N with 0 <= I < N",
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn the_report_on_one_thread_is_the_report_on_every_core() {
+    let dir = scratch("threads");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("air.ron");
+    std::fs::write(&scene, AIR).unwrap();
+    let args = [
+        "study",
+        scene.to_str().unwrap(),
+        "--dt-range",
+        "0.1..0.0125",
+        "--points",
+        "4",
+        "--integrators",
+        "all",
+        "--tolerance",
+        "1e-4",
+        "--no-timing",
+        "--out",
+        dir.to_str().unwrap(),
+    ];
+    let envs = |threads: &str| [("RAYON_NUM_THREADS", threads.to_string())];
+    let run = |threads: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_volley"))
+            .args(args)
+            .envs(envs(threads))
+            .output()
+            .unwrap();
+        ok(&out)
+    };
+    // Four threads even on a smaller machine, so the points of a dt do run interleaved.
+    assert_eq!(run("1"), run("4"));
+    std::fs::remove_dir_all(dir).unwrap();
 }

@@ -26,6 +26,7 @@
 //! table.
 
 use glam::DVec3;
+use serde::{Deserialize, Serialize};
 
 use crate::integrate::Integrator;
 use crate::scene::{BodySpec, Scene};
@@ -191,7 +192,7 @@ fn exact_growth(s: &Stiffness, h: f64) -> f64 {
 }
 
 /// How one step amplifies the test system.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Growth {
     /// Spectral radius of the amplification matrix (1 = neutral).
     pub rho: f64,

@@ -19,7 +19,19 @@
 //!
 //! With a tolerance the study names the cheapest setting (fewest force evaluations per simulated
 //! second) whose largest trajectory error meets it. [`output`] writes the markdown table and the
-//! CSV; the `volley` package's `plot` module draws the work-precision diagram.
+//! CSV; the `volley` package's `plot` module draws the work-precision diagram. Every report
+//! names the reference of each dt and that reference's own error estimate.
+//!
+//! The error runs (every point's measured run, and the references) run on all cores, the
+//! points of one dt in parallel after its reference, and are collected in point order, so the
+//! report is the one a serial run gives. The timed runs follow, one at a time, so no two timed
+//! runs share the machine with each other or with an error run.
+//!
+//! A study can also be split over machines: [`run_shard`] measures one [`Shard`] of the points
+//! (point `k` of the dt-major list belongs to shard `k mod n`) and returns a [`ShardResult`]
+//! that serialises to JSON; [`shard::merge`] checks that a set of them is one complete study
+//! and builds the report, the observed orders and the cheapest setting over all points, equal
+//! to the one-machine run's.
 //!
 //! ```
 //! use volley_sim::study::{self, StudyConfig};
@@ -42,10 +54,16 @@ mod measure;
 pub mod output;
 
 pub mod reference;
+pub mod shard;
 
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
 use crate::clock::VirtualClock;
+use crate::exact::ExtrapolationError;
 use crate::integrate::Integrator;
 use crate::scene::{IntegratorError, InvalidValue, Scene};
 use crate::sim_loop::{LoopError, SimLoop};
@@ -55,9 +73,10 @@ use crate::world::{Divergence, World};
 pub use fit::OrderFit;
 pub use measure::{EnergyDrift, Errors, EventErrors};
 pub use reference::{Reference, ReferenceKind};
+pub use shard::{MergeError, Shard, ShardResult};
 
 /// What to sweep and how to measure it.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StudyConfig {
     /// Integrators, in table order.
     pub integrators: Vec<Integrator>,
@@ -102,7 +121,7 @@ impl StudyConfig {
 }
 
 /// How a run ended.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Outcome {
     /// Reached the final tick.
     Completed,
@@ -111,7 +130,7 @@ pub enum Outcome {
 }
 
 /// The measurements of one (integrator, dt).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StudyPoint {
     /// Integrator.
     pub integrator: Integrator,
@@ -160,7 +179,7 @@ pub struct StudyReport {
     pub until: f64,
     /// Whether this binary is a release build (wall times mean something only then).
     pub release: bool,
-    /// The reference used for each dt, in `dts` order.
+    /// The reference used for each dt, in `dts` order: what it was and its own error estimate.
     pub references: Vec<Reference>,
     /// One point per (dt, integrator), dt-major in the order given.
     pub points: Vec<StudyPoint>,
@@ -217,6 +236,15 @@ pub enum StudyError {
         /// Why it stopped.
         error: Box<LoopError>,
     },
+    /// The extrapolation reference could not follow a body.
+    Extrapolation {
+        /// The body's id.
+        body: u64,
+        /// Why it stopped.
+        error: ExtrapolationError,
+    },
+    /// The shard is not one of its count (`index < count`, `count >= 1`).
+    Shard(Shard),
     /// A timed repeat of a run failed where the measured run did not.
     TimedRun(Box<LoopError>),
     /// A measured run stopped for another reason than divergence (a divergence is an outcome).
@@ -247,6 +275,15 @@ impl std::fmt::Display for StudyError {
                 f,
                 "the {integrator} reference ({substeps} substeps per tick at dt = {dt} s) failed: \
                  {error}; study smaller steps"
+            ),
+            StudyError::Extrapolation { body, error } => write!(
+                f,
+                "the extrapolation reference failed on body {body}: {error}; study a shorter span"
+            ),
+            StudyError::Shard(s) => write!(
+                f,
+                "shard: expected I/N with 0 <= I < N, got {}/{}",
+                s.index, s.count
             ),
             StudyError::TimedRun(e) => {
                 write!(f, "a timed run failed where the measured one did not: {e}")
@@ -290,73 +327,161 @@ pub fn validate(scene: &Scene, config: &StudyConfig) -> Result<(), StudyError> {
     Ok(())
 }
 
-/// Runs the study. `progress` is called before each run.
+/// Runs the study on this machine: every point of every dt. `progress` is called before each
+/// run, from whichever thread runs it.
 pub fn run(
     scene: &Scene,
     config: &StudyConfig,
-    progress: &mut dyn FnMut(Progress),
+    progress: &mut (dyn FnMut(Progress) + Send),
 ) -> Result<StudyReport, StudyError> {
-    validate(scene, config)?;
-    let total = (config.dts.len() * (config.integrators.len() + 1)) as u64;
-    let mut done = 0;
-    let mut tell = |message: String, done: &mut u64| {
-        progress(Progress {
-            done: *done,
-            total,
+    let whole = run_shard(scene, config, Shard::WHOLE, progress)?;
+    let references = whole.references.into_iter().map(|(_, r)| r).collect();
+    let points = whole.points.into_iter().map(|(_, p)| p).collect();
+    Ok(report(&whole.study, whole.header, references, points))
+}
+
+/// What [`run`] tells `progress`, shared by the threads of the error runs.
+struct Tally<'a> {
+    progress: &'a mut (dyn FnMut(Progress) + Send),
+    done: u64,
+    total: u64,
+}
+
+impl Tally<'_> {
+    fn tell(cell: &Mutex<Tally<'_>>, message: String) {
+        // A poisoned lock means a progress callback panicked; the count is still usable.
+        let mut t = cell.lock().unwrap_or_else(|e| e.into_inner());
+        let progress = Progress {
+            done: t.done,
+            total: t.total,
             message,
-        });
-        *done += 1;
-    };
+        };
+        (t.progress)(progress);
+        t.done += 1;
+    }
+}
+
+/// Measures the points of `shard` (point `k` of the dt-major (dt, integrator) list belongs to
+/// shard `k mod count`) and the references they need. The error runs of one dt run in
+/// parallel after its reference; the timed runs follow, serially, in point order.
+pub fn run_shard(
+    scene: &Scene,
+    config: &StudyConfig,
+    shard: Shard,
+    progress: &mut (dyn FnMut(Progress) + Send),
+) -> Result<ShardResult, StudyError> {
+    validate(scene, config)?;
+    if !shard.is_valid() {
+        return Err(StudyError::Shard(shard));
+    }
+    let per_dt = config.integrators.len();
+    let owned: Vec<usize> = (0..config.dts.len() * per_dt)
+        .filter(|&k| shard.owns(k))
+        .collect();
+    let mut needed: Vec<usize> = owned.iter().map(|k| k / per_dt).collect();
+    needed.dedup();
+    let tally = Mutex::new(Tally {
+        progress,
+        done: 0,
+        total: (needed.len() + owned.len()) as u64,
+    });
     let finest = config.dts.iter().copied().fold(f64::INFINITY, f64::min);
-    let (mut points, mut references) = (Vec::new(), Vec::new());
-    for &dt in &config.dts {
+    let (mut references, mut measured) = (Vec::new(), Vec::new());
+    for &d in &needed {
         let mut at_dt = scene.clone();
-        at_dt.set_dt(dt).map_err(StudyError::Value)?;
+        at_dt.set_dt(config.dts[d]).map_err(StudyError::Value)?;
         let ticks = at_dt.ticks_until(config.until).max(1);
         let stride = ticks.div_ceil(config.max_samples).max(1);
-        tell(
-            format!("reference at dt = {}", output::sci(at_dt.dt())),
-            &mut done,
-        );
-        let reference = reference::build(&at_dt, ticks, stride, finest)?;
+        let dt_text = output::sci(at_dt.dt());
+        Tally::tell(&tally, format!("reference at dt = {dt_text}"));
+        let trajectory = reference::build(&at_dt, ticks, stride, finest)?;
         let check = stability::check_at(&at_dt, at_dt.dt(), at_dt.substeps, at_dt.integrator);
-        for &integrator in &config.integrators {
-            tell(
-                format!("{integrator} at dt = {}", output::sci(at_dt.dt())),
-                &mut done,
-            );
+        let here: Vec<usize> = owned.iter().copied().filter(|k| k / per_dt == d).collect();
+        let one = |k: usize| -> Result<(usize, StudyPoint, Scene), StudyError> {
+            let integrator = config.integrators[k % per_dt];
+            Tally::tell(&tally, format!("{integrator} at dt = {dt_text}"));
             let mut run_scene = at_dt.clone();
             run_scene
                 .set_integrator(integrator)
                 .map_err(StudyError::Integrator)?;
-            let precheck = precheck_of(&check, integrator);
-            let mut point = measure::run_point(&run_scene, ticks, stride, &reference, config)?;
-            point.precheck = precheck;
-            if config.timing && point.outcome == Outcome::Completed {
-                let (wall, repeats) = time_runs(&run_scene, ticks, config)?;
-                (point.wall_per_tick, point.repeats) = (Some(wall), repeats);
-            }
-            points.push(point);
+            let mut point = measure::run_point(&run_scene, ticks, stride, &trajectory, config)?;
+            point.precheck = precheck_of(&check, integrator);
+            Ok((k, point, run_scene))
+        };
+        // Collected in point order, and the first error in that order wins, whatever the
+        // scheduling.
+        let results: Vec<_> = here.into_par_iter().map(one).collect();
+        for result in results {
+            measured.push(result?);
         }
-        references.push(reference);
+        references.push((d, trajectory.reference));
     }
+    if config.timing {
+        let completed = measured
+            .iter()
+            .filter(|(_, p, _)| p.outcome == Outcome::Completed)
+            .count();
+        tally.lock().unwrap_or_else(|e| e.into_inner()).total += completed as u64;
+        for (_, point, run_scene) in &mut measured {
+            if point.outcome != Outcome::Completed {
+                continue;
+            }
+            let message = format!(
+                "timing {} at dt = {}",
+                point.integrator,
+                output::sci(point.dt)
+            );
+            Tally::tell(&tally, message);
+            let (wall, repeats) = time_runs(run_scene, point.ticks, config)?;
+            (point.wall_per_tick, point.repeats) = (Some(wall), repeats);
+        }
+    }
+    Ok(ShardResult {
+        format: shard::FORMAT.into(),
+        version: shard::VERSION,
+        shard,
+        study: shard::StudyIdentity {
+            scene: scene.name.clone(),
+            source: scene.source.clone(),
+            substeps: scene.substeps,
+            config: config.clone(),
+        },
+        header: shard::Header {
+            start_time: scene.start_time,
+            release: !cfg!(debug_assertions),
+            warnings: precheck_lines(scene, config),
+        },
+        references,
+        points: measured.into_iter().map(|(k, p, _)| (k, p)).collect(),
+    })
+}
+
+/// The report of a complete set of points (dt-major) and references (in `dts` order): the
+/// observed orders and the cheapest setting are fitted over all of them.
+pub(crate) fn report(
+    study: &shard::StudyIdentity,
+    header: shard::Header,
+    references: Vec<Reference>,
+    points: Vec<StudyPoint>,
+) -> StudyReport {
+    let config = &study.config;
     let orders = config
         .integrators
         .iter()
         .map(|&i| (i, fit::observed_order(&points, i, &references)))
         .collect();
     let cheapest = config.tolerance.map(|t| (t, fit::cheapest(&points, t)));
-    Ok(StudyReport {
-        scene: scene.name.clone(),
-        start_time: scene.start_time,
+    StudyReport {
+        scene: study.scene.clone(),
+        start_time: header.start_time,
         until: config.until,
-        release: !cfg!(debug_assertions),
+        release: header.release,
         references,
         points,
         orders,
         cheapest,
-        warnings: precheck_lines(scene, config),
-    })
+        warnings: header.warnings,
+    }
 }
 
 /// The pre-check of a whole study, as warning lines: the stiffness once, then for each
@@ -535,13 +660,23 @@ mod tests {
             assert_eq!(error, expected);
             assert_eq!(error.to_string(), message);
         }
-        // A reference that would need more substeps than a scene may have.
+        // A reference that would need more substeps than a scene may have: with a ground and
+        // quadratic drag the reference is RK4 at 16 times the finest dt's rate.
+        let grounded = crate::scene::parse(
+            &text.replace(
+                "bodies:",
+                "ground: (height: 0.0, restitution: 0.5), bodies:",
+            ),
+            "inline.ron",
+            "inline",
+        )
+        .unwrap();
         let wide = StudyConfig {
             integrators: vec![Integrator::Rk4],
             dts: vec![1.0, 1e-3],
             ..good.clone()
         };
-        let error = run(&scene, &wide, &mut |_| {}).unwrap_err();
+        let error = run(&grounded, &wide, &mut |_| {}).unwrap_err();
         assert_eq!(
             error.to_string(),
             "substeps: expected 1 to 10000, got 16000"
@@ -563,6 +698,18 @@ mod tests {
                 "a timed run failed where the measured one did not: disk full",
             ),
             (StudyError::Run(Box::new(loop_error)), "disk full"),
+            (
+                StudyError::Extrapolation {
+                    body: 3,
+                    error: ExtrapolationError::TooManySteps,
+                },
+                "the extrapolation reference failed on body 3: the reference took more than \
+                 1000000 steps; study a shorter span",
+            ),
+            (
+                StudyError::Shard(Shard { index: 3, count: 3 }),
+                "shard: expected I/N with 0 <= I < N, got 3/3",
+            ),
         ];
         for (error, message) in cases {
             assert_eq!(error.to_string(), message);

@@ -38,12 +38,7 @@ impl std::fmt::Display for OrderFit {
 /// 1e-10 of the largest reference position (a few thousand ulps of accumulated rounding),
 /// whichever is larger.
 pub fn rounding_floor(reference: &Reference) -> f64 {
-    let extent = reference
-        .frames
-        .iter()
-        .flat_map(|f| f.p.iter().map(|p| p.length()))
-        .fold(1.0, f64::max);
-    (10.0 * reference.error_estimate()).max(1e-10 * extent)
+    (10.0 * reference.error_estimate()).max(1e-10 * reference.extent)
 }
 
 /// Least-squares slope of ln(max position error) on ln(dt) over `integrator`'s completed runs

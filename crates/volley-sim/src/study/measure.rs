@@ -2,6 +2,8 @@
 
 use std::collections::BTreeMap;
 
+use serde::{Deserialize, Serialize};
+
 use crate::clock::VirtualClock;
 use crate::contact::{Event, EventKind, Surface};
 use crate::forces::{ForceModel, Forces};
@@ -9,11 +11,11 @@ use crate::scene::Scene;
 use crate::sim_loop::{ObserverError, SimLoop, TickObserver};
 use crate::world::{BodyId, World};
 
-use super::reference::{Reference, is_sample};
+use super::reference::{Trajectory, is_sample};
 use super::{Outcome, StudyConfig, StudyError, StudyPoint};
 
 /// Position and velocity errors of a completed run against its reference.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Errors {
     /// Largest body position error (m) at the final tick.
     pub final_position: f64,
@@ -26,7 +28,7 @@ pub struct Errors {
 }
 
 /// How the run's events compare with the reference's.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct EventErrors {
     /// Impacts and target passes in the reference.
     pub reference: usize,
@@ -42,7 +44,7 @@ pub struct EventErrors {
 /// Energy drift per time window: the largest `|E(t) - E(0)| / scale` in each, where `scale` is
 /// the kinetic energy plus the magnitude of every potential term at tick 0, summed over bodies
 /// (so it does not vanish when the terms cancel, as on an orbit).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct EnergyDrift {
     /// One value per window, in time order.
     pub windows: Vec<f64>,
@@ -97,7 +99,7 @@ struct EnergyTracker {
 
 /// The observer of a measured run.
 struct Measure<'a> {
-    reference: &'a Reference,
+    reference: &'a Trajectory,
     next: usize,
     sum_sq: f64,
     count: u64,
@@ -146,7 +148,7 @@ pub(crate) fn run_point(
     scene: &Scene,
     ticks: u64,
     stride: u64,
-    reference: &Reference,
+    reference: &Trajectory,
     config: &StudyConfig,
 ) -> Result<StudyPoint, StudyError> {
     debug_assert!(
