@@ -733,3 +733,41 @@ fn a_nudged_recording_replayed_by_frames_parts_at_the_same_tick_with_the_same_re
     assert_eq!(verifier.first_divergence(), by_ticks.first_divergence());
     assert_eq!(sim.world.tick(), 40, "the replay stops at the report");
 }
+
+#[test]
+fn the_new_integrators_record_restore_and_verify_and_the_tolerance_travels_in_the_header() {
+    for integrator in [
+        Integrator::ForestRuth,
+        Integrator::Dopri5,
+        Integrator::ImplicitMidpoint,
+    ] {
+        let mut scene = coverage_scene();
+        scene.set_integrator(integrator).unwrap();
+        // Not the default: a replay must step at the recorded tolerance, not the scene file's.
+        scene.set_tolerance(1e-6).unwrap();
+        // No commands: they would switch the integrator away early.
+        let bytes = record(&scene, 200, &[], options(1, 25));
+        let replay = replay(&bytes, None);
+        assert!(
+            replay.first_divergence().is_none(),
+            "{integrator}: {:?}",
+            replay.first_divergence()
+        );
+        assert_eq!(replay.world().tick(), 200, "{integrator}");
+        let mut rec = open(&bytes).unwrap();
+        assert_eq!(rec.scene().unwrap().tolerance, 1e-6, "{integrator}");
+        let mut sim = SimLoop::new(World::new(&scene));
+        for i in 0..rec.keyframes().len() {
+            let tick = rec.keyframes()[i].tick;
+            sim.run_until(tick, &mut VirtualClock::Steady(scene.timestep), &mut ())
+                .unwrap();
+            let restored = rec.world_at(i, &rec.scene().unwrap()).unwrap();
+            // Forest-Ruth's carried position force included.
+            assert_eq!(
+                restored.snapshot(),
+                sim.world.snapshot(),
+                "{integrator}: keyframe at tick {tick}"
+            );
+        }
+    }
+}
