@@ -3,6 +3,7 @@
 use std::fmt::Write;
 
 use super::{Outcome, StudyPoint, StudyReport};
+use crate::integrate::Integrator;
 
 /// A float in 3 significant digits, scientific where that is shorter.
 pub fn sci(x: f64) -> String {
@@ -137,7 +138,14 @@ pub fn markdown(r: &StudyReport) -> String {
     )
     .ok();
     for (i, fit) in &r.orders {
-        writeln!(s, "| {i} | {} | {fit} |", i.info().order).ok();
+        // An adaptive method's error follows its tolerance once it splits ticks, not dt: its
+        // slope says how much of the sweep it took whole ticks.
+        let note = if *i == Integrator::Dopri5 {
+            " (adaptive: the error follows the tolerance once ticks are split, not dt)"
+        } else {
+            ""
+        };
+        writeln!(s, "| {i} | {}{note} | {fit} |", i.info().order).ok();
     }
     if energy {
         energy_windows(&mut s, r);

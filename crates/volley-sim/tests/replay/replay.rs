@@ -93,20 +93,30 @@ fn a_recording_holds_the_scene_the_commands_and_every_ticks_hash() {
 fn every_keyframe_restores_the_world_exactly() {
     let (scene, commands) = (coverage_scene(), coverage_commands());
     let bytes = record(&scene, 300, &commands, options(1, 50));
-    let mut rec = open(&bytes).unwrap();
-    let mut sim = SimLoop::new(World::new(&scene));
+    assert_keyframes_restore(&scene, &commands, &bytes, "coverage");
+}
+
+/// Every keyframe of `bytes` (a recording of `scene` with `commands`) restores the world a run
+/// of them has at its tick: every field, including the launcher, force toggles, energy caps,
+/// force evaluations and the carried force.
+fn assert_keyframes_restore(
+    scene: &Scene,
+    commands: &[volley_sim::Stamped],
+    bytes: &[u8],
+    what: &str,
+) {
+    let mut rec = open(bytes).unwrap();
+    let mut sim = SimLoop::new(World::new(scene));
     sim.schedule(commands.iter().copied());
     for i in 0..rec.keyframes().len() {
         let tick = rec.keyframes()[i].tick;
         sim.run_until(tick, &mut VirtualClock::Steady(scene.timestep), &mut ())
             .unwrap();
         let restored = rec.world_at(i, &rec.scene().unwrap()).unwrap();
-        // Every field, including the launcher, force toggles, energy caps, force evaluations
-        // and velocity Verlet's carried force.
         assert_eq!(
             restored.snapshot(),
             sim.world.snapshot(),
-            "keyframe at tick {tick}"
+            "{what}: keyframe at tick {tick}"
         );
     }
 }
@@ -754,20 +764,9 @@ fn the_new_integrators_record_restore_and_verify_and_the_tolerance_travels_in_th
             replay.first_divergence()
         );
         assert_eq!(replay.world().tick(), 200, "{integrator}");
-        let mut rec = open(&bytes).unwrap();
+        let rec = open(&bytes).unwrap();
         assert_eq!(rec.scene().unwrap().tolerance, 1e-6, "{integrator}");
-        let mut sim = SimLoop::new(World::new(&scene));
-        for i in 0..rec.keyframes().len() {
-            let tick = rec.keyframes()[i].tick;
-            sim.run_until(tick, &mut VirtualClock::Steady(scene.timestep), &mut ())
-                .unwrap();
-            let restored = rec.world_at(i, &rec.scene().unwrap()).unwrap();
-            // Forest-Ruth's carried position force included.
-            assert_eq!(
-                restored.snapshot(),
-                sim.world.snapshot(),
-                "{integrator}: keyframe at tick {tick}"
-            );
-        }
+        // Forest-Ruth's carried position force included.
+        assert_keyframes_restore(&scene, &[], &bytes, integrator.name());
     }
 }

@@ -30,8 +30,14 @@ fn final_error(text: &str, integrator: Integrator, duration: f64, steps: u64) ->
     let mut scene = scene::parse(text, "inline.ron", "inline").unwrap();
     scene.set_integrator(integrator).unwrap();
     scene.set_dt(duration / steps as f64).unwrap();
+    stepped_error(&scene, steps).0
+}
+
+/// Body 0's position error against the closed form after `steps` steps of `scene`, and the
+/// force evaluations they cost.
+fn stepped_error(scene: &scene::Scene, steps: u64) -> (f64, u64) {
     let spec = scene.bodies[0];
-    let mut world = World::new(&scene);
+    let mut world = World::new(scene);
     for _ in 0..steps {
         world.step().unwrap();
     }
@@ -40,7 +46,8 @@ fn final_error(text: &str, integrator: Integrator, duration: f64, steps: u64) ->
         mv: spec.mass * spec.velocity,
     };
     let exact = closed_form(&scene.forces, start, spec.mass, world.time()).unwrap();
-    (world.bodies().positions().get(0) - exact.p).length()
+    let e = (world.bodies().positions().get(0) - exact.p).length();
+    (e, world.force_evals())
 }
 
 /// Observed orders from successive halvings of dt, starting at `duration / first_steps`.
@@ -153,18 +160,8 @@ fn dopri5_error_follows_the_tolerance_and_costs_more_as_it_tightens() {
     for tol in tolerances {
         let mut scene = scene::parse(&dopri(DRAG, tol), "inline.ron", "inline").unwrap();
         scene.set_dt(0.5).unwrap();
-        let spec = scene.bodies[0];
-        let mut world = World::new(&scene);
-        for _ in 0..4 {
-            world.step().unwrap();
-        }
-        let start = BodyState {
-            p: spec.position,
-            mv: spec.mass * spec.velocity,
-        };
-        let exact = closed_form(&scene.forces, start, spec.mass, world.time()).unwrap();
-        let e = (world.bodies().positions().get(0) - exact.p).length();
-        points.push((tol, e, world.force_evals()));
+        let (e, evals) = stepped_error(&scene, 4);
+        points.push((tol, e, evals));
     }
     println!("dopri5 (tolerance, error m, evaluations): {points:?}");
     for pair in points.windows(2) {
