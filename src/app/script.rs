@@ -64,6 +64,9 @@ impl std::error::Error for ScriptError {}
 /// Most frames one `wait` may ask for (a day at 60 Hz): a typo should be an error.
 pub const MAX_WAIT: u64 = 5_184_000;
 
+/// Most steps one script may hold: a demo is hundreds; a generated file gone wrong is an error.
+pub const MAX_STEPS: usize = 100_000;
+
 const NAMED: [(&str, NamedKey); 12] = [
     ("space", NamedKey::Space),
     ("up", NamedKey::ArrowUp),
@@ -114,6 +117,12 @@ pub fn parse(text: &str, file: &str) -> Result<Vec<Step>, ScriptError> {
             column: column(word),
             message,
         };
+        if steps.len() == MAX_STEPS {
+            return Err(error(
+                verb,
+                format!("expected at most {MAX_STEPS} steps in a script"),
+            ));
+        }
         if verb == "hover" {
             steps.push(hover_step(words.next(), words.next(), verb, &error)?);
             continue;
@@ -330,6 +339,17 @@ mod tests {
             ]
         );
         assert!(p.finished());
+    }
+
+    #[test]
+    fn a_script_of_more_than_the_most_steps_is_refused_at_the_line_past_it() {
+        assert_eq!(
+            parse(&"wait 1\n".repeat(MAX_STEPS), "s").map(|s| s.len()),
+            Ok(MAX_STEPS)
+        );
+        let e = parse(&"wait 1\n".repeat(MAX_STEPS + 1), "big.txt").unwrap_err();
+        assert_eq!((e.line, e.column), (MAX_STEPS + 1, 1), "{e}");
+        assert!(e.message.contains("at most 100000 steps"), "{e}");
     }
 
     #[test]

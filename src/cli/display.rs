@@ -101,7 +101,7 @@ impl DisplayArgs {
         }
         let script = match &self.script {
             Some(path) => {
-                let text = std::fs::read_to_string(path).map_err(|e| {
+                let text = volley::scene::read_text(path).map_err(|e| {
                     fail(EXIT_INPUT, format!("{}: cannot read: {e}", path.display()))
                 })?;
                 volley::app::script::parse(&text, &path.display().to_string())

@@ -210,7 +210,7 @@ fn merge(files: &[PathBuf], out: Option<&PathBuf>) -> Result<(), Failure> {
     let mut parts = Vec::with_capacity(files.len());
     for path in files {
         let label = path.display().to_string();
-        let text = std::fs::read_to_string(path)
+        let text = volley::scene::read_text(path)
             .map_err(|e| fail(EXIT_INPUT, format!("{label}: cannot read: {e}")))?;
         let part = ShardResult::from_json(&text, &label).map_err(|e| fail(EXIT_INPUT, e))?;
         parts.push((label, part));

@@ -59,6 +59,16 @@ pub fn parse_compare(list: &str) -> Result<Vec<CompareLane>, Failure> {
     if list == "default" {
         return Ok(app::input::DEFAULT_COMPARE.map(CompareLane::of).to_vec());
     }
+    let lanes = list.split(',').count();
+    if lanes > volley::scene::MAX_COMPARE_LANES {
+        return Err(fail(
+            EXIT_INPUT,
+            format!(
+                "--compare: expected at most {} lanes, got {lanes}",
+                volley::scene::MAX_COMPARE_LANES
+            ),
+        ));
+    }
     list.split(',')
         .map(|item| {
             let item = item.trim();

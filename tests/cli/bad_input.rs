@@ -92,6 +92,9 @@ fn unknown_integrators_and_forces_are_named_with_the_alternatives() {
     assert!(err.contains("explicit-euler"), "{err}");
 }
 
+/// One lane more than `volley::scene::MAX_COMPARE_LANES`.
+const SEVENTEEN_LANES: &str = "rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4";
+
 #[test]
 fn cli_errors_are_one_line_with_a_nonzero_exit() {
     for args in [
@@ -105,6 +108,8 @@ fn cli_errors_are_one_line_with_a_nonzero_exit() {
         vec!["window", "seed", "--compare", "rk4@zero"],
         vec!["window", "seed", "--compare", "rk4@0.1x0"],
         vec!["window", "seed", "--compare", "leapfrog@0.1"],
+        vec!["window", "seed", "--compare", SEVENTEEN_LANES],
+        vec!["headless", "seed", "--substeps", "10001"],
         vec!["warp"],
     ] {
         let (code, _, err) = volley(&args);

@@ -24,7 +24,7 @@ use glam::DVec3;
 
 use crate::forces::ForceKind;
 use crate::integrate::Integrator;
-use crate::scene::{BodySpec, IntegratorError, check_integrator};
+use crate::scene::{BodySpec, IntegratorError, MAX_BODIES, check_integrator};
 use crate::world::{BodyId, World};
 
 /// A change applied to the world at a tick boundary.
@@ -87,6 +87,8 @@ pub enum CommandError {
     },
     /// An integrator the (resulting) forces refuse.
     Integrator(IntegratorError),
+    /// `fire` or `spawn` in a world that already holds [`MAX_BODIES`] bodies.
+    TooManyBodies,
     /// `spawn` with a mass that is not a finite number > 0.
     SpawnMass(f64),
     /// `spawn` with a radius that is not a finite number >= 0.
@@ -150,6 +152,10 @@ impl std::fmt::Display for CommandError {
                     .join(", ")
             ),
             CommandError::Integrator(e) => write!(f, "{e}"),
+            CommandError::TooManyBodies => write!(
+                f,
+                "the world already holds {MAX_BODIES} bodies, the most it may hold"
+            ),
             CommandError::SpawnMass(m) => write!(f, "spawn: mass must be > 0, got {m}"),
             CommandError::SpawnRadius(r) => write!(f, "spawn: radius must be >= 0, got {r}"),
             CommandError::SpawnState => f.write_str("spawn: position and velocity must be finite"),
@@ -223,7 +229,13 @@ pub enum ScriptProblem {
     TickGoesBack(u64),
     /// The command does not parse.
     Command(CommandError),
+    /// More than [`MAX_SCRIPT_COMMANDS`] commands.
+    TooManyCommands,
 }
+
+/// Most commands one script may hold (about 80 MB of commands in memory): a generated script
+/// gone wrong should be an error, not a run that never ends.
+pub const MAX_SCRIPT_COMMANDS: usize = 1_000_000;
 
 impl std::fmt::Display for ScriptError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -242,6 +254,12 @@ impl std::fmt::Display for ScriptProblem {
                 write!(f, "tick {tick} comes after a later tick")
             }
             ScriptProblem::Command(e) => write!(f, "{e}"),
+            ScriptProblem::TooManyCommands => {
+                write!(
+                    f,
+                    "expected at most {MAX_SCRIPT_COMMANDS} commands in a script"
+                )
+            }
         }
     }
 }
@@ -252,6 +270,9 @@ impl World {
     /// Applies one command at the current tick boundary.
     pub fn apply(&mut self, command: &Command) -> Result<(), CommandError> {
         match *command {
+            Command::Fire | Command::Spawn(_) if self.bodies().len() >= MAX_BODIES => {
+                return Err(CommandError::TooManyBodies);
+            }
             Command::Fire => {
                 let l = self.state.launcher;
                 self.spawn(&BodySpec {
@@ -539,6 +560,9 @@ pub fn parse_script(text: &str, file: &str) -> Result<Vec<Stamped>, ScriptError>
             line: n + 1,
             problem,
         };
+        if out.len() == MAX_SCRIPT_COMMANDS {
+            return Err(at(ScriptProblem::TooManyCommands));
+        }
         let (tick, command) = line
             .split_once(':')
             .ok_or_else(|| at(ScriptProblem::ExpectedTick))?;
@@ -561,6 +585,37 @@ pub fn parse_script(text: &str, file: &str) -> Result<Vec<Stamped>, ScriptError>
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_script_of_more_than_the_most_commands_is_refused_at_the_line_past_it() {
+        let text = "0: fire\n".repeat(MAX_SCRIPT_COMMANDS + 1);
+        let err = parse_script(&text, "big.txt").unwrap_err();
+        assert_eq!(err.problem, ScriptProblem::TooManyCommands);
+        assert_eq!(err.line, MAX_SCRIPT_COMMANDS + 1);
+        assert_eq!(
+            parse_script(&"0: fire\n".repeat(MAX_SCRIPT_COMMANDS), "ok.txt").map(|s| s.len()),
+            Ok(MAX_SCRIPT_COMMANDS)
+        );
+    }
+
+    #[test]
+    fn fire_and_spawn_are_refused_once_the_world_holds_the_most_bodies() {
+        let text = format!(
+            "Scene(dt: 0.01, integrator: Rk4, bodies: [(mass: 1, position: (0, 0, 1))], volley: (count: {}))",
+            MAX_BODIES - 2
+        );
+        let scene = crate::scene::parse(&text, "x.ron", "x").unwrap();
+        let mut world = World::new(&scene);
+        assert_eq!(world.apply(&Command::Fire), Ok(()));
+        assert_eq!(world.bodies().len(), MAX_BODIES);
+        let spawn = Command::Spawn(scene.bodies[0]);
+        for refused in [Command::Fire, spawn] {
+            assert_eq!(world.apply(&refused), Err(CommandError::TooManyBodies));
+        }
+        assert_eq!(world.bodies().len(), MAX_BODIES);
+        assert_eq!(world.apply(&Command::Despawn(BodyId(0))), Ok(()));
+        assert_eq!(world.apply(&spawn), Ok(()));
+    }
 
     #[test]
     fn every_command_round_trips_through_its_script_form() {

@@ -33,9 +33,21 @@ fn check_tolerance(field: &str, x: f64) -> Result<f64, InvalidValue> {
         Err(invalid(field, ValueProblem::Tolerance(x)))
     }
 }
-/// Most bodies a `volley` may spawn (about 1 GB of state): a typo should be an error, not an
-/// allocation failure.
-pub const MAX_VOLLEY: u32 = 10_000_000;
+/// Most bodies a world may hold: the scene's bodies and volley together, and what commands
+/// spawn later (a few hundred megabytes of state, keyframe and scratch at this count): a typo
+/// or a hostile file should be an error, not an allocation of gigabytes. The limits are listed in
+/// docs/limits.md.
+pub const MAX_BODIES: usize = 1_000_000;
+
+/// Most bodies a `volley` may spawn: [`MAX_BODIES`] less the listed bodies.
+pub const MAX_VOLLEY: u32 = MAX_BODIES as u32;
+
+/// Most body-steps one tick may ask for (bodies times substeps): about a second of one core's
+/// work with the slowest fixed-step integrators, so no file makes a tick take minutes.
+pub const MAX_TICK_WORK: u64 = 100_000_000;
+
+/// Most compare lanes a scene (`compare`) or `--compare` may ask for: each lane is a whole world.
+pub const MAX_COMPARE_LANES: usize = 16;
 
 /// A scene after parsing and validation; everything a [`crate::World`] is built from.
 #[derive(Clone, Debug, PartialEq)]
@@ -226,13 +238,26 @@ impl Scene {
         Ok(())
     }
 
-    /// Overrides the substeps per tick (at least 1).
+    /// Overrides the substeps per tick (1 to [`MAX_SUBSTEPS`], and at most [`MAX_TICK_WORK`]
+    /// body-steps a tick with the scene's bodies).
     pub fn set_substeps(&mut self, substeps: u32) -> Result<(), InvalidValue> {
         if !(1..=MAX_SUBSTEPS).contains(&substeps) {
             return Err(invalid("substeps", ValueProblem::Substeps(substeps)));
         }
+        let bodies = self.body_count() as u64;
+        if bodies.max(1) * u64::from(substeps) > MAX_TICK_WORK {
+            return Err(invalid(
+                "substeps",
+                ValueProblem::TickWork { bodies, substeps },
+            ));
+        }
         self.substeps = substeps;
         Ok(())
+    }
+
+    /// Bodies a world of this scene starts with: the listed ones and the volley.
+    pub fn body_count(&self) -> usize {
+        self.bodies.len() + self.volley.map_or(0, |v| v.count as usize)
     }
 
     /// The physics step h (s): the timestep's nanoseconds over 1e9.
@@ -495,10 +520,30 @@ fn ten() -> f64 {
     10.0
 }
 
+/// Most bytes of any text file Volley reads (scenes, command and input scripts, shard files):
+/// far past any real one, and a bound on what a file that never ends (`/dev/zero`) can cost.
+pub const MAX_TEXT_BYTES: u64 = 256 << 20;
+
+/// Reads a text file of at most [`MAX_TEXT_BYTES`]; a longer one is an error saying so.
+pub fn read_text(path: &Path) -> std::io::Result<String> {
+    use std::io::Read;
+    let mut text = String::new();
+    std::fs::File::open(path)?
+        .take(MAX_TEXT_BYTES + 1)
+        .read_to_string(&mut text)?;
+    if text.len() as u64 > MAX_TEXT_BYTES {
+        return Err(std::io::Error::other(format!(
+            "longer than {} MiB, the most a text file Volley reads may be",
+            MAX_TEXT_BYTES >> 20
+        )));
+    }
+    Ok(text)
+}
+
 /// Reads and validates a scene file.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+    let text = read_text(path).map_err(|e| SceneError {
         file: file.clone(),
         position: None,
         field: None,
@@ -568,6 +613,17 @@ pub enum ValueProblem {
     Tolerance(f64),
     /// A volley of more than [`MAX_VOLLEY`] bodies.
     VolleyCount(u32),
+    /// More than [`MAX_BODIES`] bodies listed and in the volley together.
+    TooManyBodies(u64),
+    /// More than [`MAX_TICK_WORK`] body-steps a tick: bodies and substeps.
+    TickWork {
+        /// Bodies at tick 0.
+        bodies: u64,
+        /// Substeps per tick.
+        substeps: u32,
+    },
+    /// More than [`MAX_COMPARE_LANES`] compare lanes.
+    TooManyLanes(usize),
     /// A guard energy factor that is not a finite number > 1.
     EnergyFactor(f64),
     /// A force term declared a second time.
@@ -603,6 +659,19 @@ impl std::fmt::Display for ValueProblem {
             ),
             ValueProblem::VolleyCount(n) => {
                 write!(f, "expected at most {MAX_VOLLEY} bodies, got {n}")
+            }
+            ValueProblem::TooManyBodies(n) => write!(
+                f,
+                "expected at most {MAX_BODIES} bodies listed and in the volley together, got {n}"
+            ),
+            ValueProblem::TickWork { bodies, substeps } => write!(
+                f,
+                "expected at most {MAX_TICK_WORK} body-steps a tick, got {substeps} substeps \
+                 for {bodies} bodies ({} body-steps)",
+                bodies * u64::from(*substeps)
+            ),
+            ValueProblem::TooManyLanes(n) => {
+                write!(f, "expected at most {MAX_COMPARE_LANES} lanes, got {n}")
             }
             ValueProblem::EnergyFactor(x) => write!(f, "expected a finite number > 1, got {x}"),
             ValueProblem::DuplicateForce(kind) => write!(
@@ -651,6 +720,20 @@ const COVERED: &str =
     "Gravity, ConstantForce, LinearDrag and a Spring with rest length 0, or a PointMass alone";
 
 impl std::error::Error for IntegratorError {}
+
+/// At most [`MAX_TICK_WORK`] body-steps a tick in the scene's own lane and in each compare lane.
+fn check_tick_work(raw: &RawScene, bodies: u64) -> Result<(), InvalidValue> {
+    let lanes = raw.compare.iter().enumerate();
+    let asked = std::iter::once(("substeps".to_string(), raw.substeps)).chain(
+        lanes.filter_map(|(i, l)| l.substeps.map(|n| (format!("compare[{i}].substeps"), n))),
+    );
+    for (field, substeps) in asked {
+        if bodies.max(1) * u64::from(substeps) > MAX_TICK_WORK {
+            return Err(invalid(field, ValueProblem::TickWork { bodies, substeps }));
+        }
+    }
+    Ok(())
+}
 
 fn invalid(field: impl Into<String>, problem: ValueProblem) -> InvalidValue {
     InvalidValue {
@@ -724,6 +807,22 @@ fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Inva
     let forces = validate_forces(&raw.forces)?;
     check_integrator(integrator, &forces)
         .map_err(|e| invalid("integrator", ValueProblem::Integrator(e)))?;
+    if raw.compare.len() > MAX_COMPARE_LANES {
+        return Err(invalid(
+            "compare",
+            ValueProblem::TooManyLanes(raw.compare.len()),
+        ));
+    }
+    // A volley too large on its own is said of its count, below.
+    let total = raw.bodies.len() as u64 + raw.volley.map_or(0, |v| u64::from(v.count));
+    if total > MAX_BODIES as u64 && raw.volley.is_none_or(|v| v.count <= MAX_VOLLEY) {
+        let field = if raw.volley.is_some() {
+            "volley.count"
+        } else {
+            "bodies"
+        };
+        return Err(invalid(field, ValueProblem::TooManyBodies(total)));
+    }
     for (i, lane) in raw.compare.iter().enumerate() {
         check_integrator(lane.integrator, &forces).map_err(|e| {
             invalid(
@@ -743,6 +842,7 @@ fn validate(raw: RawScene, text: &str, default_name: &str) -> Result<Scene, Inva
             ));
         }
     }
+    check_tick_work(&raw, total)?;
     let ground = raw
         .ground
         .map(|g| -> Result<Ground, InvalidValue> {
@@ -1009,6 +1109,70 @@ mod tests {
         );
     }
 
+    /// A text file past the limit is refused after reading just past it, saying so; one at the
+    /// limit is read (and then fails to parse, as zeros do).
+    #[test]
+    fn a_text_file_longer_than_the_limit_is_refused() {
+        let dir = std::env::temp_dir().join(format!("volley-text-limit-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("huge.ron");
+        let file = std::fs::File::create(&path).unwrap();
+        // Sparse: no disk is written for the zeros.
+        file.set_len(MAX_TEXT_BYTES + 1).unwrap();
+        let err = load(&path).unwrap_err();
+        assert!(err.message.contains("longer than 256 MiB"), "{err}");
+        file.set_len(MAX_TEXT_BYTES).unwrap();
+        assert_eq!(read_text(&path).unwrap().len() as u64, MAX_TEXT_BYTES);
+        drop(file);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// What a small file could ask for beyond reason is refused, naming the field (the limits
+    /// of docs/limits.md).
+    #[test]
+    fn limits_on_bodies_work_and_lanes_name_the_field() {
+        let field = |text: &str| parse(text, "x.ron", "x").unwrap_err().field.unwrap();
+        let volley = |n: u64| MINIMAL.replace("])", &format!("], volley: (count: {n}))"));
+        assert!(parse(&volley(MAX_BODIES as u64 - 1), "x.ron", "x").is_ok());
+        // One listed body and a volley of the maximum is one body too many.
+        let err = parse(&volley(MAX_BODIES as u64), "x.ron", "x").unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("volley.count"), "{err}");
+        assert!(err.message.contains("got 1000001"), "{err}");
+        assert_eq!(field(&volley(20_000_000)), "volley.count");
+        let substeps = |n: u32, count: u64| {
+            volley(count).replace(
+                "integrator: Rk4",
+                &format!("integrator: Rk4, substeps: {n}"),
+            )
+        };
+        assert!(parse(&substeps(100, 999_999), "x.ron", "x").is_ok());
+        let err = parse(&substeps(101, 999_999), "x.ron", "x").unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("substeps"), "{err}");
+        assert!(
+            err.message.contains("101 substeps for 1000000 bodies"),
+            "{err}"
+        );
+        let lanes = |n: usize| {
+            let lane = "(integrator: Rk4, substeps: 200)";
+            MINIMAL.replace("])", &format!("], compare: [{}])", vec![lane; n].join(",")))
+        };
+        assert!(parse(&lanes(MAX_COMPARE_LANES), "x.ron", "x").is_ok());
+        assert_eq!(field(&lanes(MAX_COMPARE_LANES + 1)), "compare");
+        let heavy_lane = MINIMAL.replace(
+            "])",
+            "], volley: (count: 999999), compare: [(integrator: Rk4, substeps: 200)])",
+        );
+        assert_eq!(field(&heavy_lane), "compare[0].substeps");
+        let mut scene = parse(&volley(999_999), "x.ron", "x").unwrap();
+        assert!(matches!(
+            scene.set_substeps(1000).unwrap_err().problem,
+            ValueProblem::TickWork {
+                bodies: 1_000_000,
+                substeps: 1000
+            }
+        ));
+    }
+
     /// Every problem prints the message it printed when these errors were strings.
     #[test]
     fn error_messages_are_pinned() {
@@ -1055,7 +1219,7 @@ mod tests {
             ),
             (
                 at("volley.count", ValueProblem::VolleyCount(20_000_000)),
-                "volley.count: expected at most 10000000 bodies, got 20000000",
+                "volley.count: expected at most 1000000 bodies, got 20000000",
             ),
             (
                 at("guard.energy_factor", ValueProblem::EnergyFactor(1.0)),

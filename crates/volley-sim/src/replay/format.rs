@@ -101,7 +101,11 @@ impl Kind {
     pub fn allowed_len(self) -> std::ops::RangeInclusive<u32> {
         match self {
             Kind::Header => 2..=(64 << 20),
-            Kind::Keyframe => super::keyframe::KEYFRAME_FIXED as u32..=u32::MAX,
+            // A keyframe of the most bodies a world may hold, with a carried force.
+            Kind::Keyframe => {
+                let most = super::keyframe::keyframe_len(crate::scene::MAX_BODIES, true);
+                super::keyframe::KEYFRAME_FIXED as u32..=most.expect("fits a frame")
+            }
             Kind::Command => 9..=4096,
             Kind::Hash => (HASH_RUN_FIXED + 8) as u32..=(HASH_RUN_FIXED + 8 * HASH_RUN_MAX) as u32,
             Kind::Footer => FOOTER_LEN as u32..=FOOTER_LEN as u32,
