@@ -1,0 +1,244 @@
+//! The properties Volley's fuzz targets check, one function per thing Volley reads from a user.
+//!
+//! Each function takes the fuzzer's bytes, runs them through the same code the CLI and the
+//! window run on a file, and panics only if a property fails; a refused input is a pass. The
+//! cargo-fuzz targets in `fuzz_targets/` call them under libFuzzer (nightly, `scripts/fuzz`),
+//! and `tests/regression.rs` calls them on every file of `regression/` with the stable
+//! toolchain, so CI replays each finding without a fuzzer.
+//!
+//! What no property may do, on any input: panic, run past libFuzzer's per-input time limit, or
+//! allocate past its `-rss_limit_mb` / `-malloc_limit_mb` (the bounds `scripts/fuzz` sets and
+//! docs/limits.md states).
+//!
+//! The harness bounds the *stepping* it does per input (not what it parses or builds): a scene
+//! may legally ask for a million bodies at ten thousand substeps, and stepping that is slow by
+//! design, not a finding. So [`scene`] builds a world only up to [`MAX_FUZZ_BODIES`] bodies and
+//! steps at most [`MAX_FUZZ_BODY_STEPS`] body-steps; the library's own limits (docs/limits.md)
+//! are what bounds a real run.
+
+use std::io::Cursor;
+
+use volley_sim::command::{Command, parse_script};
+use volley_sim::replay::format::{CRC_LEN, HEAD_LEN, PREAMBLE_LEN, head_check};
+use volley_sim::replay::{Recording, Replay};
+use volley_sim::scene::{self, Scene};
+use volley_sim::study::shard::{ShardResult, merge};
+use volley_sim::{World, hash};
+
+/// Most bodies [`scene`] builds a world for (more are parsed and validated, not built).
+pub const MAX_FUZZ_BODIES: usize = 4096;
+/// Most body-steps (bodies × substeps × ticks) one input is stepped for.
+pub const MAX_FUZZ_BODY_STEPS: u64 = 200_000;
+/// Ticks a validated scene is stepped for, within [`MAX_FUZZ_BODY_STEPS`].
+pub const SCENE_TICKS: u64 = 100;
+/// Most ticks a command script or a recording is run for.
+pub const RUN_TICKS: u64 = 400;
+
+/// The scene the command-script target applies its commands to: the replay tests' scene, with
+/// every kind of thing a command can touch (volley, contacts, spring, drag, events).
+pub const COMMAND_SCENE: &str = include_str!("../../tests/data/replay_scene.ron");
+
+/// The text of an input, if it is UTF-8 (every text reader refuses anything else first).
+fn text(data: &[u8]) -> Option<&str> {
+    std::str::from_utf8(data).ok()
+}
+
+/// Bodies a world built from `scene` starts with.
+fn body_count(scene: &Scene) -> usize {
+    scene.bodies.len() + scene.volley.map_or(0, |v| v.count as usize)
+}
+
+/// Ticks of `world` that fit in [`MAX_FUZZ_BODY_STEPS`], at most `ticks`.
+fn affordable_ticks(world: &World, ticks: u64) -> u64 {
+    let per_tick = (world.bodies().id.len().max(1) as u64) * u64::from(world.substeps());
+    ticks.min(MAX_FUZZ_BODY_STEPS / per_tick)
+}
+
+/// Steps `world` one tick at a time for up to `ticks` ticks; every state is finite until a
+/// step reports a divergence, after which the world stays stopped.
+pub fn step_checked(world: &mut World, ticks: u64) {
+    for _ in 0..ticks {
+        let before = world.tick();
+        match world.step() {
+            Ok(()) => assert_finite(world),
+            Err(d) => {
+                assert!(
+                    d.tick > before,
+                    "a divergence is reported at the tick it happened"
+                );
+                assert_eq!(world.step(), Err(d), "a stopped world stays stopped");
+                return;
+            }
+        }
+    }
+}
+
+/// Every position and momentum of `world` is finite.
+fn assert_finite(world: &World) {
+    let b = world.bodies();
+    for i in 0..b.id.len() {
+        let (p, mv) = (b.p.get(i), b.mv.get(i));
+        assert!(
+            p.is_finite() && mv.is_finite(),
+            "tick {}: body {} is not finite (p {p}, mV {mv}) and no divergence was reported",
+            world.tick(),
+            b.id[i].0
+        );
+    }
+}
+
+/// **Scene files and saved setups** (RON): parse and validate; a scene that validates is
+/// written back by [`Scene::to_ron`] (what the window's "Save setup" writes) and must parse to
+/// the same scene, then is built and stepped: no panic, and every state finite until a reported
+/// divergence. The same bits from the saved setup.
+pub fn scene(data: &[u8]) {
+    let Some(text) = text(data) else { return };
+    let Ok(scene) = scene::parse(text, "fuzz.ron", "fuzz") else {
+        return;
+    };
+    let saved = scene.to_ron();
+    let back = scene::parse(&saved, "saved.ron", "saved")
+        .unwrap_or_else(|e| panic!("a saved setup does not parse back: {e}\n{saved}"));
+    let mut expect = scene.clone();
+    expect.source = back.source.clone();
+    assert_eq!(back, expect, "a saved setup parses back to another scene");
+    if body_count(&scene) > MAX_FUZZ_BODIES {
+        return;
+    }
+    let mut world = World::new(&scene);
+    let ticks = affordable_ticks(
+        &world,
+        SCENE_TICKS.min(scene.ticks_until(scene.start_time + scene.duration)),
+    );
+    step_checked(&mut world, ticks);
+    let mut again = World::new(&back);
+    let _ = again.step_ticks(ticks);
+    assert_eq!(
+        hash::state_hash(&world),
+        hash::state_hash(&again),
+        "the saved setup steps to other bits"
+    );
+}
+
+/// **Command scripts**: parse; a script that parses is applied to [`COMMAND_SCENE`]'s world at
+/// its ticks (up to [`RUN_TICKS`]) with stepping in between: a refused command is an error, not
+/// a panic, and leaves the world as it was; every state stays finite until a divergence.
+pub fn commands(data: &[u8]) {
+    let Some(text) = text(data) else { return };
+    let Ok(script) = parse_script(text, "fuzz.txt") else {
+        return;
+    };
+    for stamped in &script {
+        let back: Command = stamped
+            .command
+            .to_string()
+            .parse()
+            .unwrap_or_else(|e| panic!("`{}` does not parse back: {e}", stamped.command));
+        assert_eq!(
+            back, stamped.command,
+            "a command's script form reads back to another"
+        );
+    }
+    let scene = scene::parse(COMMAND_SCENE, "replay_scene.ron", "replay").expect("valid");
+    let mut world = World::new(&scene);
+    for stamped in &script {
+        if stamped.tick > RUN_TICKS {
+            break;
+        }
+        let ticks = affordable_ticks(&world, stamped.tick - world.tick().min(stamped.tick));
+        step_checked(&mut world, ticks);
+        if world.tick() < stamped.tick {
+            return;
+        }
+        let before = hash::state_hash(&world);
+        if world.apply(&stamped.command).is_err() {
+            assert_eq!(
+                before,
+                hash::state_hash(&world),
+                "a refused command changed the world"
+            );
+        }
+    }
+    let ticks = affordable_ticks(&world, 20);
+    step_checked(&mut world, ticks);
+}
+
+/// Rewrites every frame's head check and CRC of a recording in place, so the fuzzer's changes
+/// reach the payload decoders and the record-order rules instead of stopping at a checksum
+/// (the reader's checksum tests are in the test suite). Stops at the first frame that does
+/// not fit; returns the bytes to read.
+pub fn fix_checksums(data: &[u8]) -> Vec<u8> {
+    let mut out = data.to_vec();
+    let mut at = PREAMBLE_LEN;
+    while at + HEAD_LEN <= out.len() {
+        let kind = out[at];
+        let len = u32::from_le_bytes(out[at + 1..at + 5].try_into().expect("4 bytes"));
+        out[at + 5..at + 7].copy_from_slice(&head_check(kind, len).to_le_bytes());
+        let end = at + HEAD_LEN + len as usize;
+        if end + CRC_LEN > out.len() {
+            break;
+        }
+        let crc = crc32fast::hash(&out[at..end]);
+        out[end..end + CRC_LEN].copy_from_slice(&crc.to_le_bytes());
+        at = end + CRC_LEN;
+    }
+    out
+}
+
+/// **Recordings**: the bytes with their checksums fixed ([`fix_checksums`]) are opened, the
+/// embedded scene parsed, every keyframe decoded and restored into a world, and the replay
+/// verified up to [`RUN_TICKS`] ticks past its start: each step refuses or passes, none panics.
+pub fn recording(data: &[u8]) {
+    let bytes = fix_checksums(data);
+    let Ok(mut recording) = Recording::from_reader(Cursor::new(bytes), "fuzz.vrec") else {
+        return;
+    };
+    let Ok(scene) = recording.scene() else { return };
+    if body_count(&scene) > MAX_FUZZ_BODIES {
+        return;
+    }
+    for i in 0..recording.keyframes().len() {
+        if let Ok(mut world) = recording.world_at(i, &scene) {
+            let ticks = affordable_ticks(&world, 2);
+            step_checked(&mut world, ticks);
+        }
+    }
+    let start = recording.start_tick();
+    let Ok(mut replay) = Replay::start(recording, None) else {
+        return;
+    };
+    let per_tick =
+        (replay.world().bodies().id.len().max(1) as u64) * u64::from(replay.world().substeps());
+    let ticks = RUN_TICKS.min(MAX_FUZZ_BODY_STEPS / per_tick);
+    let _ = replay.run_to(start.saturating_add(ticks), &mut ());
+}
+
+/// **The window's input scripts** (`--script`): parse; no panic on any text.
+pub fn window_script(data: &[u8]) {
+    let Some(text) = text(data) else { return };
+    if let Ok(steps) = volley::app::script::parse(text, "fuzz.script") {
+        let mut player = volley::app::script::Player::new(steps);
+        // A wait may ask for millions of frames; a few hundred show the player steps through.
+        for _ in 0..256 {
+            let _ = player.due();
+            if player.finished() {
+                break;
+            }
+        }
+    }
+}
+
+/// **Study shard files** (`volley study --merge`): read, then merged as the one shard given.
+pub fn shard(data: &[u8]) {
+    let Some(text) = text(data) else { return };
+    if let Ok(part) = ShardResult::from_json(text, "fuzz.json") {
+        let back = ShardResult::from_json(&part.to_json(), "back.json")
+            .unwrap_or_else(|e| panic!("a shard file written back does not read: {e}"));
+        assert_eq!(
+            back.to_json(),
+            part.to_json(),
+            "a shard file reads back to another"
+        );
+        let _ = merge(&[("fuzz.json".to_string(), part)]);
+    }
+}
