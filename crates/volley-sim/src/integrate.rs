@@ -141,7 +141,9 @@ pub const DOPRI_MAX_ATTEMPTS: u32 = 10_000;
 pub const DEFAULT_TOLERANCE: f64 = 1e-8;
 
 /// Forest-Ruth's outer substep coefficient `1 / (2 - 2^(1/3))`.
-const FOREST_RUTH_C1: f64 = 1.351_207_191_959_657_8;
+pub(crate) const FOREST_RUTH_C1: f64 = 1.351_207_191_959_657_8;
+/// Forest-Ruth's middle (backward) substep coefficient `1 - 2 c1`.
+pub(crate) const FOREST_RUTH_C2: f64 = 1.0 - 2.0 * FOREST_RUTH_C1;
 
 /// Facts about an integrator, as used by the stability pre-check and the study.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -588,9 +590,13 @@ struct VelocityTerms {
 impl VelocityTerms {
     #[inline(always)]
     fn of<F: ForceModel>(f: &F, w: Mass) -> VelocityTerms {
+        // Zero written as a constant where the model has no quadratic drag (`0 * inv` is not
+        // a constant to the compiler), so the models without it compile to the plain
+        // Störmer-Verlet substeps, without the quadratic solve's square roots and divisions.
+        let c = f.quadratic_drag();
         VelocityTerms {
             kd: f.linear_part(w.m).kd,
-            q: f.quadratic_drag() * w.inv,
+            q: if c == 0.0 { 0.0 } else { c * w.inv },
         }
     }
 
@@ -604,10 +610,14 @@ impl VelocityTerms {
     /// divergence.
     #[inline(always)]
     fn solve_half_kick(self, rhs: DVec3, h: f64) -> DVec3 {
-        let a = 1.0 + 0.5 * h * self.kd;
         if self.q == 0.0 {
-            return rhs / a;
+            // No velocity terms: `a` is exactly 1 and `rhs / 1` is `rhs`, without the divisions.
+            if self.kd == 0.0 {
+                return rhs;
+            }
+            return rhs / (1.0 + 0.5 * h * self.kd);
         }
+        let a = 1.0 + 0.5 * h * self.kd;
         let r = rhs.length();
         if r == 0.0 {
             return rhs;
@@ -622,8 +632,13 @@ impl VelocityTerms {
         rhs * scale
     }
 
+    /// `-(kd + q |v|) v`; without quadratic drag `-kd v`, the same bits for a finite `v`
+    /// (`kd + 0 = kd`) without the square root.
     #[inline(always)]
     fn accel(self, v: DVec3) -> DVec3 {
+        if self.q == 0.0 {
+            return -self.kd * v;
+        }
         -(self.kd + self.q * v.length()) * v
     }
 }
@@ -653,7 +668,7 @@ impl<F: ForceModel> Scheme for ForestRuth<'_, F> {
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, h: f64, fp0: DVec3) -> (BodyState, DVec3) {
         let vt = VelocityTerms::of(self.0, w);
-        let (c1, c2) = (FOREST_RUTH_C1, 1.0 - 2.0 * FOREST_RUTH_C1);
+        let (c1, c2) = (FOREST_RUTH_C1, FOREST_RUTH_C2);
         let (s, fp) = generalized_verlet(self.0, vt, s, w, c1 * h, fp0);
         let (s, fp) = generalized_verlet(self.0, vt, s, w, c2 * h, fp);
         generalized_verlet(self.0, vt, s, w, c1 * h, fp)
@@ -937,6 +952,56 @@ mod tests {
             let next = step_body(Integrator::Exact, &forces, s, m, h);
             assert_eq!(bits(next.p), bits(p), "{forces:?}");
             assert_eq!(bits(next.mv), bits(m * v), "{forces:?}");
+        }
+    }
+
+    /// Every integrator steps to the same bits through the fast-path model `visit` picks
+    /// (`ConstantField`, `DragField`) and through the general `Forces`: a shortcut taken only
+    /// where a model's term is a constant zero (Forest-Ruth's quadratic solve) changes no bit.
+    #[test]
+    fn fast_path_models_step_to_the_general_models_bits() {
+        struct Steps(BodyState, Mass, f64);
+        impl SchemeVisitor for Steps {
+            type Out = Vec<[u64; 6]>;
+            fn visit<S: Scheme>(self, scheme: S) -> Self::Out {
+                let Steps(mut s, w, h) = self;
+                let mut carry = scheme.start_carry(s, w);
+                let mut out = Vec::new();
+                for _ in 0..50 {
+                    (s, carry) = scheme.step(s, w, h, carry);
+                    let (p, mv) = (s.p.to_array(), s.mv.to_array());
+                    out.push([p[0], p[1], p[2], mv[0], mv[1], mv[2]].map(f64::to_bits));
+                }
+                out
+            }
+        }
+        let cases = [
+            gravity(),
+            Forces {
+                constant: Some(DVec3::new(1.5, -0.5, 0.0)),
+                ..gravity()
+            },
+            Forces {
+                linear_drag: Some(0.3),
+                ..gravity()
+            },
+            Forces {
+                linear_drag: Some(0.3),
+                constant: Some(DVec3::new(1.5, -0.5, 0.0)),
+                ..gravity()
+            },
+        ];
+        let s = BodyState {
+            p: DVec3::new(10.0, 0.0, 2.0),
+            mv: DVec3::new(19.2, 0.0, 72.5),
+        };
+        let (w, h) = (Mass::new(2.5), 1.0 / 60.0);
+        for forces in cases {
+            for integrator in Integrator::ALL {
+                let fast = visit(integrator, &forces, DEFAULT_TOLERANCE, Steps(s, w, h));
+                let general = visit_model(integrator, &forces, DEFAULT_TOLERANCE, Steps(s, w, h));
+                assert_eq!(fast, general, "{integrator:?} on {forces:?}");
+            }
         }
     }
 

@@ -28,7 +28,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::integrate::Integrator;
+use crate::integrate::{FOREST_RUTH_C1, FOREST_RUTH_C2, Integrator};
 use crate::scene::{BodySpec, Scene};
 use crate::world::World;
 
@@ -148,9 +148,9 @@ fn linear_increment(
         }
         Integrator::ForestRuth => {
             // Three generalised Verlet steps; the damping is implicit in the first half kick.
-            let c1 = 1.0 / (2.0 - 2f64.cbrt());
+            let (c1, c2) = (FOREST_RUTH_C1, FOREST_RUTH_C2);
             let (mut dx, mut dv) = (0.0, 0.0);
-            for c in [c1, 1.0 - 2.0 * c1, c1] {
+            for c in [c1, c2, c1] {
                 let (hc, (x, v)) = (c * h, (x + dx, v + dv));
                 let dv_half = (0.5 * hc * (-w2 * x) - 0.5 * hc * k * v) / (1.0 + 0.5 * hc * k);
                 let step_dx = hc * (v + dv_half);
@@ -215,8 +215,7 @@ pub fn growth_per_step(integrator: Integrator, s: &Stiffness, h: f64) -> Growth 
     // quadratic drag implicitly: `(h c2 / 2) k s^2/|v| + s = |rhs|` has no real root once
     // `2 |c2| h k_nl > 1` (k h > 0.29), and the step turns NaN however the linearisation grows.
     if integrator == Integrator::ForestRuth {
-        let c2 = 1.0 - 2.0 / (2.0 - 2f64.cbrt());
-        if 2.0 * c2.abs() * h * s.k_nl > 1.0 {
+        if 2.0 * FOREST_RUTH_C2.abs() * h * s.k_nl > 1.0 {
             return Growth {
                 rho: f64::INFINITY,
                 stable: false,
