@@ -214,13 +214,11 @@ pub fn growth_per_step(integrator: Integrator, s: &Stiffness, h: f64) -> Growth 
     // Forest-Ruth's backward substep (length c2 h, c2 = -1.70) solves its half kick with the
     // quadratic drag implicitly: `(h c2 / 2) k s^2/|v| + s = |rhs|` has no real root once
     // `2 |c2| h k_nl > 1` (k h > 0.29), and the step turns NaN however the linearisation grows.
-    if integrator == Integrator::ForestRuth {
-        if 2.0 * FOREST_RUTH_C2.abs() * h * s.k_nl > 1.0 {
-            return Growth {
-                rho: f64::INFINITY,
-                stable: false,
-            };
-        }
+    if integrator == Integrator::ForestRuth && 2.0 * FOREST_RUTH_C2.abs() * h * s.k_nl > 1.0 {
+        return Growth {
+            rho: f64::INFINITY,
+            stable: false,
+        };
     }
     // M = I + D; the eigenvalues of M are 1 + mu for the eigenvalues mu of D.
     let (a, c) = linear_increment(integrator, s, h, (1.0, 0.0));
