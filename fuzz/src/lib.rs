@@ -29,6 +29,10 @@ use volley_sim::{World, hash};
 pub const MAX_FUZZ_BODIES: usize = 4096;
 /// Most body-steps (bodies × substeps × ticks) one input is stepped for.
 pub const MAX_FUZZ_BODY_STEPS: u64 = 200_000;
+/// Most force evaluations one input is stepped for, checked after each tick: an adaptive step
+/// may take up to [`volley_sim::integrate::DOPRI_MAX_ATTEMPTS`] attempts, so body-steps alone
+/// do not bound its work.
+pub const MAX_FUZZ_EVALS: u64 = 5_000_000;
 /// Ticks a validated scene is stepped for, within [`MAX_FUZZ_BODY_STEPS`].
 pub const SCENE_TICKS: u64 = 100;
 /// Most ticks a command script or a recording is run for.
@@ -37,6 +41,22 @@ pub const RUN_TICKS: u64 = 400;
 /// The scene the command-script target applies its commands to: the replay tests' scene, with
 /// every kind of thing a command can touch (volley, contacts, spring, drag, events).
 pub const COMMAND_SCENE: &str = include_str!("../../tests/data/replay_scene.ron");
+
+thread_local! {
+    /// Force evaluations the properties spent on this thread since [`take_evals`].
+    static EVALS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// The force evaluations the properties spent on this thread since the last call: the work an
+/// input cost, counted exactly, so the regression test can tell an input that hangs from one
+/// that does not without timing it.
+pub fn take_evals() -> u64 {
+    EVALS.with(|e| e.replace(0))
+}
+
+fn spend(evals: u64) {
+    EVALS.with(|e| e.set(e.get().saturating_add(evals)));
+}
 
 /// The text of an input, if it is UTF-8 (every text reader refuses anything else first).
 fn text(data: &[u8]) -> Option<&str> {
@@ -57,7 +77,16 @@ fn affordable_ticks(world: &World, ticks: u64) -> u64 {
 /// Steps `world` one tick at a time for up to `ticks` ticks; every state is finite until a
 /// step reports a divergence, after which the world stays stopped.
 pub fn step_checked(world: &mut World, ticks: u64) {
+    let start = world.force_evals();
+    step_counted(world, ticks, start);
+    spend(world.force_evals().saturating_sub(start));
+}
+
+fn step_counted(world: &mut World, ticks: u64, start: u64) {
     for _ in 0..ticks {
+        if world.force_evals() - start > MAX_FUZZ_EVALS {
+            return;
+        }
         let before = world.tick();
         match world.step() {
             Ok(()) => assert_finite(world),
@@ -112,7 +141,8 @@ pub fn scene(data: &[u8]) {
     );
     step_checked(&mut world, ticks);
     let mut again = World::new(&back);
-    let _ = again.step_ticks(ticks);
+    let _ = again.step_ticks(world.tick() - again.tick());
+    spend(again.force_evals());
     assert_eq!(
         hash::state_hash(&world),
         hash::state_hash(&again),
@@ -210,7 +240,14 @@ pub fn recording(data: &[u8]) {
     let per_tick =
         (replay.world().bodies().id.len().max(1) as u64) * u64::from(replay.world().substeps());
     let ticks = RUN_TICKS.min(MAX_FUZZ_BODY_STEPS / per_tick);
-    let _ = replay.run_to(start.saturating_add(ticks), &mut ());
+    let evals = replay.world().force_evals();
+    for tick in start..start.saturating_add(ticks) {
+        let spent = replay.world().force_evals().saturating_sub(evals);
+        if replay.run_to(tick + 1, &mut ()).is_err() || spent > MAX_FUZZ_EVALS {
+            break;
+        }
+    }
+    spend(replay.world().force_evals().saturating_sub(evals));
 }
 
 /// **The window's input scripts** (`--script`): parse; no panic on any text.

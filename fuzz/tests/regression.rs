@@ -5,6 +5,12 @@
 
 use std::path::{Path, PathBuf};
 
+/// Most force evaluations one input may cost: about a second of the fuzz harness's work in
+/// release, a tenth of libFuzzer's 10 s limit. A hang found by fuzzing costs orders of magnitude
+/// more (the first recording that hung spent about 10^9), so counting the work catches it
+/// again exactly, without timing anything.
+const MAX_INPUT_EVALS: u64 = 50_000_000;
+
 /// Runs `property` on every file of `regression/<target>`; returns how many there were.
 fn replay(target: &str, property: fn(&[u8])) -> usize {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -18,10 +24,15 @@ fn replay(target: &str, property: fn(&[u8])) -> usize {
     files.sort();
     for file in &files {
         let data = std::fs::read(file).unwrap();
-        let started = std::time::Instant::now();
+        volley_fuzz::take_evals();
         property(&data);
-        // Not a timing assertion on the property: a report of an input that got slow again.
-        eprintln!("{}: {:?}", file.display(), started.elapsed());
+        let evals = volley_fuzz::take_evals();
+        eprintln!("{}: {evals} force evaluations", file.display());
+        assert!(
+            evals <= MAX_INPUT_EVALS,
+            "{}: {evals} force evaluations, more than {MAX_INPUT_EVALS}: it hangs again",
+            file.display()
+        );
     }
     files.len()
 }
@@ -58,14 +69,22 @@ fn shard_regressions() {
 fn properties_hold_on_the_valid_seeds() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     for (name, text) in volley_sim::scene::BUNDLED {
-        assert!(
-            volley_sim::scene::parse(text, name, name).is_ok(),
-            "{name} is a valid seed"
-        );
+        let scene = volley_sim::scene::parse(text, name, name).unwrap();
+        volley_fuzz::take_evals();
         volley_fuzz::scene(text.as_bytes());
+        let stepped = volley_fuzz::take_evals() > 0;
+        // Larger worlds are validated, not built (the harness's bound); the closed form
+        // evaluates no force.
+        let built = scene.body_count() <= volley_fuzz::MAX_FUZZ_BODIES && scene.duration > 0.0;
+        let evaluates = scene.integrator != volley_sim::Integrator::Exact;
+        assert_eq!(stepped, built && evaluates, "{name} stepped");
     }
     let commands = std::fs::read(root.join("tests/data/replay_commands.txt")).unwrap();
     volley_fuzz::commands(&commands);
+    assert!(
+        volley_fuzz::take_evals() > 0,
+        "the command script's world was stepped"
+    );
     let golden = std::fs::read(root.join("tests/data/golden.vrec")).unwrap();
     assert_eq!(
         volley_fuzz::fix_checksums(&golden),
@@ -73,4 +92,8 @@ fn properties_hold_on_the_valid_seeds() {
         "a valid file's checksums are kept"
     );
     volley_fuzz::recording(&golden);
+    assert!(
+        volley_fuzz::take_evals() > 0,
+        "the golden recording was replayed"
+    );
 }

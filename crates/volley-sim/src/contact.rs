@@ -185,6 +185,20 @@ pub(crate) struct Particle {
 /// Most surface impacts resolved inside one step before the rest is clamped.
 const MAX_IMPACTS_PER_STEP: usize = 16;
 
+/// Most force evaluations one body's swept contacts may spend in one step. Every root search
+/// takes partial steps, and an adaptive step may take up to
+/// [`crate::integrate::DOPRI_MAX_ATTEMPTS`] attempts each, so without a bound one body's contacts
+/// could cost a billion evaluations a tick (found by fuzzing a recording). Past it, the body's
+/// step ends non-finite and the world reports the divergence, as the adaptive step's own cap
+/// does. A fixed-step body spends at most a few thousand.
+pub const MAX_CONTACT_EVALS: u64 = 1_000_000;
+
+/// The state a step that ran out of its evaluations ends in: reported as non-finite.
+const SPENT: BodyState = BodyState {
+    p: DVec3::NAN,
+    mv: DVec3::NAN,
+};
+
 /// Relative distance (of the plane offset's scale) within which a body counts as touching a
 /// surface at the start of a segment, so a resting body costs no root search.
 const TOUCHING: f64 = 1e-12;
@@ -293,7 +307,13 @@ pub(crate) fn resolve<S: Scheme>(
     out: &mut Vec<Event>,
 ) -> (BodyState, DVec3, u64) {
     match frame.contacts.detection {
-        Detection::Swept => resolve_swept(scheme, frame, body, (s0, c0), (s1, c1), out),
+        Detection::Swept => {
+            let (s, c, n) = resolve_swept(scheme, frame, body, (s0, c0), (s1, c1), out);
+            if n > MAX_CONTACT_EVALS {
+                return (SPENT, c, n);
+            }
+            (s, c, n)
+        }
         Detection::Discrete => {
             let (s, c) = resolve_discrete(scheme, frame, body, s0, (s1, c1), out);
             (s, c, u64::from(S::CARRIES_FORCE))
@@ -313,6 +333,9 @@ fn resolve_swept<S: Scheme>(
     let mut elapsed = 0.0; // time from the step start to the segment start
     let mut remaining = frame.h;
     let step = |s: BodyState, c: DVec3, tau: f64, evals: &mut u64| {
+        if *evals > MAX_CONTACT_EVALS {
+            return (SPENT, c);
+        }
         let (s, c, n) = scheme.step_counted(s, body.w, tau, c);
         *evals += n;
         (s, c)
@@ -480,7 +503,11 @@ fn targets_on_segment<S: Scheme>(
 ) {
     // Every point of the path is a partial step, counted as it is taken.
     let spent = std::cell::Cell::new(0u64);
+    let before = *evals;
     let path = |tau: f64| {
+        if before + spent.get() > MAX_CONTACT_EVALS {
+            return SPENT;
+        }
         let (s, _, n) = scheme.step_counted(a, body.w, tau, ca);
         spent.set(spent.get() + n);
         s
