@@ -474,6 +474,12 @@ impl World {
     pub fn restore(&mut self, s: &State) -> Result<(), RestoreError> {
         let b = &s.bodies;
         let n = b.id.len();
+        if s.tick >= MAX_COUNT || s.next_id >= MAX_COUNT {
+            return Err(RestoreError::Counts {
+                tick: s.tick,
+                next_id: s.next_id,
+            });
+        }
         if !b.lengths_agree() {
             return Err(RestoreError::Lengths { ids: n });
         }
@@ -515,9 +521,21 @@ impl World {
     }
 }
 
+/// Bound on a restored state's tick and next body id (2^62): far past any run (146 years of
+/// nanosecond ticks), and far enough below `u64::MAX` that counting on from it never overflows.
+/// A keyframe read from a file is refused past it (fuzzing found one at `u64::MAX`).
+pub const MAX_COUNT: u64 = 1 << 62;
+
 /// Why [`World::restore`] refused a snapshot: the check it failed, with the values it names.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum RestoreError {
+    /// The tick or the next body id is at or past [`MAX_COUNT`].
+    Counts {
+        /// The snapshot's tick.
+        tick: u64,
+        /// Its next body id.
+        next_id: u64,
+    },
     /// The body arrays are not all as long as the ids.
     Lengths {
         /// How many ids the snapshot has.
@@ -557,6 +575,10 @@ impl std::fmt::Display for RestoreError {
             RestoreError::Lengths { ids } => {
                 write!(f, "body arrays of different lengths ({ids} ids)")
             }
+            RestoreError::Counts { tick, next_id } => write!(
+                f,
+                "tick {tick} and next_id {next_id} must be below 2^62 ({MAX_COUNT})"
+            ),
             RestoreError::Ids => f.write_str("body ids must increase and stay below next_id"),
             RestoreError::Mass { body, mass } => {
                 write!(f, "body {body}: mass must be > 0, got {mass}")

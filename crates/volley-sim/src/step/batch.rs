@@ -91,7 +91,9 @@ impl World {
             return false;
         }
         self.carry_valid = out.carried;
-        self.state.force_evals += out.evals;
+        // Saturating: a keyframe read from a file may start the count anywhere (fuzzing found
+        // one near u64::MAX).
+        self.state.force_evals = self.state.force_evals.saturating_add(out.evals);
         true
     }
 }

@@ -51,7 +51,9 @@ impl World {
             },
         );
         self.carry_valid = out.carried;
-        self.state.force_evals += out.evals;
+        // Saturating: a keyframe read from a file may start the count anywhere (fuzzing found
+        // one near u64::MAX).
+        self.state.force_evals = self.state.force_evals.saturating_add(out.evals);
         for buffer in &mut self.scratch.chunk_events[..chunks] {
             self.scratch.events.extend_from_slice(buffer);
             buffer.clear();

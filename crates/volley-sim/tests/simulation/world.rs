@@ -166,7 +166,23 @@ fn restore_names_the_check_a_snapshot_fails() {
     w.spawn(&ball(1.0));
     let good = w.snapshot();
     type Spoil = fn(&mut volley_sim::replay::Snapshot);
-    let cases: [(Spoil, RestoreError, &str); 8] = [
+    let cases: [(Spoil, RestoreError, &str); 10] = [
+        (
+            |s| s.tick = u64::MAX,
+            RestoreError::Counts {
+                tick: u64::MAX,
+                next_id: 2,
+            },
+            "tick 18446744073709551615 and next_id 2 must be below 2^62 (4611686018427387904)",
+        ),
+        (
+            |s| s.next_id = volley_sim::world::MAX_COUNT,
+            RestoreError::Counts {
+                tick: 0,
+                next_id: 1 << 62,
+            },
+            "tick 0 and next_id 4611686018427387904 must be below 2^62 (4611686018427387904)",
+        ),
         (
             |s| s.bodies.mass.push(1.0),
             RestoreError::Lengths { ids: 2 },
