@@ -39,7 +39,8 @@ fn replay(target: &str, property: fn(&[u8])) -> usize {
 
 #[test]
 fn scene_regressions() {
-    replay("scene", volley_fuzz::scene);
+    // The two saved-setup findings of the first run stay in the corpus.
+    assert!(replay("scene", volley_fuzz::scene) >= 2);
 }
 
 #[test]
@@ -49,7 +50,8 @@ fn command_regressions() {
 
 #[test]
 fn recording_regressions() {
-    replay("recording", volley_fuzz::recording);
+    // The contact-work hang and the overflowing count.
+    assert!(replay("recording", volley_fuzz::recording) >= 2);
 }
 
 #[test]

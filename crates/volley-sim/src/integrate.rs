@@ -918,25 +918,36 @@ mod tests {
 
     /// The `exact` step on force sets it covered before springs is still the drag flow, bit for
     /// bit, on every model `visit` picks for them (pinned hashes depend on it).
-    #[test]
-    fn exact_without_a_spring_is_the_drag_flow_bit_for_bit() {
-        let cases = [
+    /// Force sets that reach every model `visit` picks: the constant field (with and without a
+    /// constant force), the drag field (both forms) and the general model (drag without gravity).
+    fn model_cases() -> [Forces; 5] {
+        let constant = Some(DVec3::new(1.5, -0.5, 0.0));
+        [
             gravity(),
             Forces {
+                constant,
+                ..gravity()
+            },
+            Forces {
                 linear_drag: Some(0.3),
                 ..gravity()
             },
             Forces {
                 linear_drag: Some(0.3),
-                constant: Some(DVec3::new(1.5, -0.5, 0.0)),
+                constant,
                 ..gravity()
             },
             Forces {
                 linear_drag: Some(0.3),
-                constant: Some(DVec3::new(1.5, -0.5, 0.0)),
+                constant,
                 ..Forces::default()
             },
-        ];
+        ]
+    }
+
+    #[test]
+    fn exact_without_a_spring_is_the_drag_flow_bit_for_bit() {
+        let cases = model_cases();
         let s = BodyState {
             p: DVec3::new(10.0, 0.0, 2.0),
             mv: DVec3::new(19.2, 0.0, 72.5),
@@ -975,22 +986,7 @@ mod tests {
                 out
             }
         }
-        let cases = [
-            gravity(),
-            Forces {
-                constant: Some(DVec3::new(1.5, -0.5, 0.0)),
-                ..gravity()
-            },
-            Forces {
-                linear_drag: Some(0.3),
-                ..gravity()
-            },
-            Forces {
-                linear_drag: Some(0.3),
-                constant: Some(DVec3::new(1.5, -0.5, 0.0)),
-                ..gravity()
-            },
-        ];
+        let cases = model_cases();
         let s = BodyState {
             p: DVec3::new(10.0, 0.0, 2.0),
             mv: DVec3::new(19.2, 0.0, 72.5),
