@@ -26,7 +26,17 @@ impl App {
             screen: &screen,
         };
         let target = frame.texture.create_view(&Default::default());
-        self.draw(&target, &ui);
+        let scene = (gfx.scene_format() != gfx.format()).then(|| {
+            frame.texture.create_view(&wgpu::TextureViewDescriptor {
+                format: Some(gfx.scene_format()),
+                ..Default::default()
+            })
+        });
+        let targets = Targets {
+            scene: scene.as_ref().unwrap_or(&target),
+            ui: &target,
+        };
+        self.draw(&targets, &ui);
         if let Some(gfx) = self.gfx.as_mut() {
             gfx.gpu.queue.present(frame);
             gfx.refresh();
@@ -68,7 +78,7 @@ impl App {
     }
 
     /// Draws the scene and the panel into `target` (the surface, or a capture of it).
-    fn draw(&mut self, target: &wgpu::TextureView, ui: &FrameUi<'_>) {
+    fn draw(&mut self, target: &Targets<'_>, ui: &FrameUi<'_>) {
         let (dragged, ring) = (self.dragged_launcher(), self.dragged_target());
         let Some(gfx) = self.gfx.as_mut() else {
             return;
@@ -105,7 +115,7 @@ impl App {
         gfx.renderer.prepare(&gfx.gpu, &lanes, &view, &options);
         let device = &gfx.gpu.device;
         let mut encoder = device.create_command_encoder(&Default::default());
-        gfx.renderer.encode(&mut encoder, target);
+        gfx.renderer.encode(&mut encoder, target.scene);
         let extra = gfx.egui.update_buffers(
             device,
             &gfx.gpu.queue,
@@ -117,7 +127,7 @@ impl App {
             let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("panel"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: target,
+                    view: target.ui,
                     depth_slice: None,
                     resolve_target: None,
                     ops: wgpu::Operations {
@@ -166,14 +176,28 @@ impl App {
         let Some(gfx) = self.gfx.as_ref() else {
             return Ok(());
         };
-        let target = OffscreenTarget::new(&gfx.gpu, gfx.size(), gfx.format());
-        self.draw(target.view(), ui);
+        let target =
+            OffscreenTarget::with_views(&gfx.gpu, gfx.size(), gfx.format(), gfx.scene_format());
+        let targets = Targets {
+            scene: target.scene_view(),
+            ui: target.view(),
+        };
+        self.draw(&targets, ui);
         let Some(gfx) = self.gfx.as_ref() else {
             return Ok(());
         };
         let image: Image = target.read(&gfx.gpu).map_err(|e| e.to_string())?;
         image.save_png(path).map_err(|e| e.to_string())
     }
+}
+
+/// Two views of the texture a frame draws into (the same view twice where the adapter cannot
+/// view a surface in another format).
+struct Targets<'a> {
+    /// The 3D view's: sRGB, since its shaders output linear colour.
+    scene: &'a wgpu::TextureView,
+    /// egui's: the texture's own format, blended in gamma space as egui expects.
+    ui: &'a wgpu::TextureView,
 }
 
 /// The panel's share of a frame, for drawing it (again, for a capture).

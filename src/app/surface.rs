@@ -1,7 +1,14 @@
 //! The window's GPU side: device, surface and its configuration, the scene renderer and egui's.
 //!
 //! The surface is configured at the window's physical size (HiDPI included) and not at all while
-//! the window is minimised to 0 x 0. A lost surface is recreated, an outdated one reconfigured,
+//! the window is minimised to 0 x 0.
+//!
+//! Two views of one surface texture where the adapter allows it: the 3D view draws into an sRGB
+//! view (its shaders work in linear colour), egui into the plain 8-bit one, because egui blends
+//! in gamma space (egui-wgpu warns on an sRGB target and prefers `Bgra8Unorm`). On the software
+//! adapter that also spares every panel pixel the sRGB conversions: the panel and the plots
+//! drew in 1.4 ms less a frame (`scripts/bench-window`, docs/performance.md). An adapter without
+//! surface view formats gets one sRGB surface for both, as before. A lost surface is recreated, an outdated one reconfigured,
 //! a timed-out or occluded frame skipped: none of them ends the program.
 
 use std::sync::Arc;
@@ -21,6 +28,8 @@ pub struct WindowGpu {
     pub egui: egui_wgpu::Renderer,
     surface: wgpu::Surface<'static>,
     config: wgpu::SurfaceConfiguration,
+    /// The format the 3D view draws in: the sRGB twin of the surface's format, or that format.
+    scene_format: wgpu::TextureFormat,
     configured: bool,
     window: Arc<Window>,
 }
@@ -34,14 +43,10 @@ impl WindowGpu {
         let surface = instance
             .create_surface(window.clone())
             .map_err(|e| GpuError::Surface(e.to_string()))?;
+        keep_freed_heap();
         let gpu = Gpu::open(instance, Some(&surface))?;
         let caps = surface.get_capabilities(&gpu.adapter);
-        let format = caps
-            .formats
-            .iter()
-            .copied()
-            .find(wgpu::TextureFormat::is_srgb)
-            .or(caps.formats.first().copied())
+        let (format, scene_format) = pick_formats(&caps.formats, gpu.surface_view_formats())
             .ok_or_else(|| GpuError::Surface("the surface supports no format".into()))?;
         let size = window.inner_size();
         let config = wgpu::SurfaceConfiguration {
@@ -56,17 +61,22 @@ impl WindowGpu {
                 .first()
                 .copied()
                 .unwrap_or(wgpu::CompositeAlphaMode::Auto),
-            view_formats: vec![],
+            view_formats: if scene_format == format {
+                vec![]
+            } else {
+                vec![scene_format]
+            },
             color_space: wgpu::SurfaceColorSpace::Auto,
         };
-        let renderer = Renderer::new(&gpu, format);
-        let egui = egui_wgpu::Renderer::new(&gpu.device, format, Default::default());
+        let renderer = Renderer::new(&gpu, scene_format);
+        let egui = egui_wgpu::Renderer::new(&gpu.device, format, ui_options());
         let mut this = WindowGpu {
             gpu,
             renderer,
             egui,
             surface,
             config,
+            scene_format,
             configured: false,
             window,
         };
@@ -93,9 +103,14 @@ impl WindowGpu {
         (self.config.width, self.config.height)
     }
 
-    /// The surface's colour format.
+    /// The surface's colour format, which egui draws in.
     pub fn format(&self) -> wgpu::TextureFormat {
         self.config.format
+    }
+
+    /// The format the 3D view draws in: an sRGB view of the surface's texture, or its own format.
+    pub fn scene_format(&self) -> wgpu::TextureFormat {
+        self.scene_format
     }
 
     /// Whether there is anything to draw into (not minimised).
@@ -146,5 +161,56 @@ impl WindowGpu {
             let s = self.window.inner_size();
             self.resize(s.width, s.height);
         }
+    }
+}
+
+/// egui's renderer options: no dithering. Dithering hides banding in smooth gradients, which
+/// Volley's panel does not draw (flat fills, text, lines), and costs the software adapter a
+/// per-pixel noise function on every panel pixel.
+pub fn ui_options() -> egui_wgpu::RendererOptions {
+    egui_wgpu::RendererOptions {
+        dithering: false,
+        ..Default::default()
+    }
+}
+
+/// The surface's format and the 3D view's: an 8-bit format without sRGB encoding for the
+/// surface (egui's) and its sRGB twin for the scene, when the adapter can view a surface in
+/// another format and the surface offers such a pair; otherwise an sRGB format (or the first)
+/// for both. `None` when the surface offers no format.
+pub fn pick_formats(
+    formats: &[wgpu::TextureFormat],
+    view_formats: bool,
+) -> Option<(wgpu::TextureFormat, wgpu::TextureFormat)> {
+    let pair = formats
+        .iter()
+        .copied()
+        .find(|f| !f.is_srgb() && f.add_srgb_suffix() != *f);
+    match pair {
+        Some(f) if view_formats => Some((f, f.add_srgb_suffix())),
+        _ => {
+            let f = formats
+                .iter()
+                .copied()
+                .find(wgpu::TextureFormat::is_srgb)
+                .or(formats.first().copied())?;
+            Some((f, f))
+        }
+    }
+}
+
+/// Keeps up to 64 MiB of freed memory at the top of a heap for reuse, instead of glibc's default
+/// (128 KiB): the software adapter (lavapipe) allocates and frees vertex buffers on its own
+/// thread every frame, and once a frame's meshes pass that size (the plots' do) glibc handed
+/// the top of that thread's heap back to the kernel (`madvise`) after every frame and the next
+/// frame faulted it in again: about 1 ms a frame here (strace: one `madvise` a frame; perf:
+/// page faults and unmapping in the frame's thread). Memory the window held at its busiest
+/// frame stays held; nothing else changes. glibc on Linux only; elsewhere nothing is done.
+fn keep_freed_heap() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: `mallopt` only sets a tuning parameter of the allocator; glibc serialises it
+    // against allocations in other threads.
+    unsafe {
+        libc::mallopt(libc::M_TRIM_THRESHOLD, 64 << 20);
     }
 }

@@ -96,12 +96,28 @@ impl Image {
 pub struct OffscreenTarget {
     texture: wgpu::Texture,
     view: wgpu::TextureView,
+    /// A view in the scene's format when it differs from the texture's (see [`Self::with_views`]).
+    scene_view: Option<wgpu::TextureView>,
     size: (u32, u32),
 }
 
 impl OffscreenTarget {
     /// A `width` x `height` target of `format` (each side at least 1).
     pub fn new(gpu: &Gpu, size: (u32, u32), format: wgpu::TextureFormat) -> OffscreenTarget {
+        OffscreenTarget::with_views(gpu, size, format, format)
+    }
+
+    /// A target laid out as the window's surface is: a texture of `format` that the panel draws
+    /// into, and a view of it in `scene_format` (its sRGB twin, or the same format) for the 3D
+    /// view.
+    pub fn with_views(
+        gpu: &Gpu,
+        size: (u32, u32),
+        format: wgpu::TextureFormat,
+        scene_format: wgpu::TextureFormat,
+    ) -> OffscreenTarget {
+        let twin = [scene_format];
+        let view_formats: &[wgpu::TextureFormat] = if scene_format == format { &[] } else { &twin };
         let size = (size.0.max(1), size.1.max(1));
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("offscreen"),
@@ -115,12 +131,19 @@ impl OffscreenTarget {
             dimension: wgpu::TextureDimension::D2,
             format,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
+            view_formats,
         });
         let view = texture.create_view(&Default::default());
+        let scene_view = (scene_format != format).then(|| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                format: Some(scene_format),
+                ..Default::default()
+            })
+        });
         OffscreenTarget {
             texture,
             view,
+            scene_view,
             size,
         }
     }
@@ -128,6 +151,11 @@ impl OffscreenTarget {
     /// The view to draw into.
     pub fn view(&self) -> &wgpu::TextureView {
         &self.view
+    }
+
+    /// The view the 3D view draws into: the scene-format view, or [`Self::view`].
+    pub fn scene_view(&self) -> &wgpu::TextureView {
+        self.scene_view.as_ref().unwrap_or(&self.view)
     }
 
     /// Width and height (px).

@@ -83,6 +83,15 @@ impl Gpu {
         format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type)
     }
 
+    /// Whether a window's surface texture can be viewed in another format that differs only in
+    /// sRGB encoding (wgpu's `SURFACE_VIEW_FORMATS`; Vulkan's mutable-format swapchains).
+    pub fn surface_view_formats(&self) -> bool {
+        self.adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(wgpu::DownlevelFlags::SURFACE_VIEW_FORMATS)
+    }
+
     /// Blocks until every submitted command has finished.
     pub fn wait(&self) {
         // A poll error means the device is lost; the next submit reports it, so it is dropped.

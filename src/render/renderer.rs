@@ -17,7 +17,7 @@ use crate::render::pipelines::{DEPTH_FORMAT, Pipelines};
 use crate::render::trails::{TRAIL_SAMPLES, TrailRing, segments_per_trail};
 
 /// Background colour (linear).
-const CLEAR: wgpu::Color = wgpu::Color {
+pub const CLEAR: wgpu::Color = wgpu::Color {
     r: 0.012,
     g: 0.015,
     b: 0.022,

@@ -18,3 +18,4 @@ mod window_rewind;
 mod window_session;
 mod window_setup;
 mod window_smoke;
+mod window_surface;

@@ -135,7 +135,7 @@ pub(crate) fn under_xvfb(test: &str, args: &[&str]) -> Option<std::process::Outp
 
 /// `volley window seed` under Xvfb, closing after `frames` frames with a screenshot; it must
 /// exit 0. Returns the screenshot and stdout.
-fn drawn_under_xvfb(
+pub(crate) fn drawn_under_xvfb(
     test: &str,
     frames: u32,
     env: &[(&str, &str)],
