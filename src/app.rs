@@ -131,6 +131,10 @@ pub struct RunSummary {
     pub work_ms: Option<f64>,
     /// Median CPU time of the UI in a frame (ms): the panel and plots laid out and tessellated.
     pub ui_ms: Option<f64>,
+    /// Median number of triangles egui's meshes had in a frame: what a software rasteriser
+    /// pays for the panel and plots (besides their area), counted, so it does not vary with the
+    /// machine's load.
+    pub ui_triangles: Option<usize>,
     /// The recordings made in the window, oldest first (the last one ended when it closed).
     pub recordings: Vec<session::recording::FinishedRecording>,
     /// Where the last replay stood when it ended or the window closed.
@@ -251,6 +255,8 @@ pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummar
         interval_ms: median(&mut app.timings.iter().skip(1).map(|t| t.0).collect()),
         work_ms: median(&mut app.timings.iter().map(|t| t.1).collect()),
         ui_ms: median(&mut app.timings.iter().map(|t| t.2).collect()),
+        ui_triangles: median(&mut app.timings.iter().map(|t| t.3 as f64).collect())
+            .map(|t| t as usize),
         recordings: app.session.recordings().to_vec(),
         replay: app.session.replay_verdict(),
         probe: app.probe.as_ref().map(|p| p.lines()),
@@ -332,10 +338,13 @@ struct App {
     viewport: Viewport,
     screenshot: Option<PathBuf>,
     last_frame: Instant,
-    /// (interval, work) of each frame (ms), kept only when the run has a frame limit.
-    timings: Vec<(f64, f64, f64)>,
+    /// (interval, work, UI) of each frame (ms) and its UI triangles, kept only when the run
+    /// has a frame limit.
+    timings: Vec<(f64, f64, f64, usize)>,
     /// The UI's CPU time of the frame being drawn (ms).
     ui_ms: f64,
+    /// The triangles of egui's meshes in the frame being drawn.
+    ui_triangles: usize,
     /// Steps of `--surface-drill` done.
     drill_step: u8,
     /// The input script being played.
@@ -396,6 +405,7 @@ impl App {
             last_frame: Instant::now(),
             timings: Vec::new(),
             ui_ms: 0.0,
+            ui_triangles: 0,
             probe: None,
             probe_pinned: false,
             setup_drag: None,
@@ -609,6 +619,13 @@ impl App {
         let ppp = output.pixels_per_point;
         let primitives = self.egui.tessellate(output.shapes, ppp);
         self.ui_ms = (laid_out + tessellating.elapsed()).as_secs_f64() * 1e3;
+        self.ui_triangles = primitives
+            .iter()
+            .map(|p| match &p.primitive {
+                egui::epaint::Primitive::Mesh(m) => m.indices.len() / 3,
+                egui::epaint::Primitive::Callback(_) => 0,
+            })
+            .sum();
         let mut textures = output.textures_delta;
         if let Some(gfx) = self.gfx.as_mut() {
             for (id, deltas) in textures.set.drain() {
@@ -650,7 +667,8 @@ impl App {
         self.stats.work_ms = blend(self.stats.work_ms, work);
         self.stats.ui_ms = blend(self.stats.ui_ms, self.ui_ms);
         if self.options.exit_after_frames.is_some() {
-            self.timings.push((interval, work, self.ui_ms));
+            self.timings
+                .push((interval, work, self.ui_ms, self.ui_triangles));
         }
         let size = window.inner_size();
         self.stats.size = (size.width, size.height);

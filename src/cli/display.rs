@@ -151,15 +151,16 @@ pub fn report(display: &DisplayArgs, summary: &RunSummary) {
             println!("probe: {}", lines.join("; "));
         }
     }
-    if let (Some(_), Some(interval), Some(work), Some(ui)) = (
+    if let (Some(_), Some(interval), Some(work), Some(ui), Some(triangles)) = (
         display.exit_after_frames,
         summary.interval_ms,
         summary.work_ms,
         summary.ui_ms,
+        summary.ui_triangles,
     ) {
         println!(
             "window: {} frames, median frame {interval:.2} ms, of which work {work:.2} ms \
-             (UI {ui:.2} ms), on {}",
+             (UI {ui:.2} ms, {triangles} triangles), on {}",
             summary.frames, summary.adapter
         );
     }
