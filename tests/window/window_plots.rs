@@ -198,3 +198,83 @@ fn a_scene_without_a_closed_form_is_measured_against_the_numerical_reference() {
     );
     assert!(!s.lanes()[1].history.series.error_max.buckets().is_empty());
 }
+
+#[test]
+fn body_0_is_drawn_only_where_it_is_not_the_largest_error() {
+    use volley::app::panel::plots::body_zero_differs;
+    // One body: its error is the largest at every tick, so its line would lie on that one.
+    let mut one = session("drag", vec![Integrator::ExplicitEuler, Integrator::Rk4]);
+    one.run_ticks(120);
+    for lane in one.lanes() {
+        assert!(!lane.history.series.error_first.buckets().is_empty());
+        assert!(!body_zero_differs(&lane.history.series));
+    }
+    // Three masses on one launch: the lightest (not body 0) drifts furthest from its closed
+    // form under explicit Euler, so body 0's series parts from the largest.
+    let mut three = session("drag_masses", vec![Integrator::ExplicitEuler]);
+    three.run_ticks(120);
+    assert!(body_zero_differs(&three.lanes()[0].history.series));
+}
+
+#[test]
+fn the_work_precision_legend_takes_the_corner_with_the_fewest_points() {
+    use egui_plot::Corner;
+    use volley::app::panel::plots::legend_corner;
+    // (log10 evaluations per second, log10 error): Euler and semi-implicit Euler cheap and
+    // coarse, RK4 dear and accurate, Verlet between them.
+    let euler = [1.8, 0.0];
+    let rk4 = [2.4, -10.0];
+    // Verlet cheap and middling (the orbit): the top right is empty.
+    let orbit = [euler, [1.8, -0.2], [1.8, -3.0], rk4];
+    assert_eq!(legend_corner(&orbit), Corner::RightTop);
+    // Verlet dearer than the middle (the drag scene): the bottom left is the empty one.
+    let drag = [euler, [1.9, -0.1], [2.3, -4.0], [2.2, 1.0], rk4];
+    assert_eq!(legend_corner(&drag), Corner::LeftBottom);
+    // Every quarter taken: the first of the fewest, in the stated order.
+    let all = [[0.0, 0.0], [1.0, 1.0], [0.0, 1.0], [1.0, 0.0], [0.9, 0.9]];
+    assert_eq!(legend_corner(&all), Corner::LeftBottom);
+    assert_eq!(legend_corner(&[]), Corner::RightTop);
+}
+
+#[test]
+fn the_plots_markers_and_probe_stay_within_their_triangle_budget() {
+    let test = "the_plots_markers_and_probe_stay_within_their_triangle_budget";
+    let dir = support::scratch_dir(test);
+    let (on, off) = (dir.join("on.script"), dir.join("off.script"));
+    std::fs::write(&on, "hover body 0\n").unwrap();
+    std::fs::write(&off, "key k\nkey m\n").unwrap();
+    // scripts/bench-window's two runs (the drag scene, four lanes, long history), shorter.
+    let triangles = |script: &std::path::Path| {
+        let args = [
+            "window",
+            "drag",
+            "--compare",
+            "default",
+            "--warm-up-ticks",
+            "3000",
+            "--exit-after-frames",
+            "8",
+            "--no-watch",
+            "--script",
+            script.to_str().unwrap(),
+        ];
+        let out = crate::window_smoke::window_stdout(test, &args, "1280x800")?;
+        // window: N frames, median frame F ms, of which work W ms (UI U ms, T triangles), ...
+        let count = out
+            .split(" triangles)")
+            .next()
+            .and_then(|head| head.rsplit(' ').next())
+            .and_then(|n| n.parse::<usize>().ok());
+        Some(count.unwrap_or_else(|| panic!("no triangle count in:\n{out}")))
+    };
+    let (Some(on), Some(off)) = (triangles(&on), triangles(&off)) else {
+        return;
+    };
+    // On a software adapter a frame costs about what its triangles do (docs/performance.md,
+    // "The window on a software adapter"). The plots draw a point per three points of their
+    // width, two triangles of band and four of line each: 4 lanes x 2 series x about 90 points
+    // x 6 is about 4 300, plus axes, grid, labels and the probe's box. 10 000 leaves room for
+    // fonts and sizes, not for drawing 400 points a line again (about 20 000 more).
+    assert!(on > off, "on {on}, off {off}");
+    assert!(on - off <= 10_000, "the plots add {} triangles", on - off);
+}

@@ -3,7 +3,8 @@
 //! study plots' palette).
 //!
 //! - position error against sim time, log y: the largest over the first bodies as a min-max
-//!   band per time bucket (so spikes survive decimation), body 0 dashed;
+//!   band per time bucket (so spikes survive decimation), body 0 dashed (where it is not the
+//!   largest);
 //! - relative energy error `(E - E0) / scale` against sim time;
 //! - live work-precision: force evaluations per simulated second against the largest position
 //!   error so far, one point per lane, both log: the study's diagram as the run goes.
@@ -15,7 +16,7 @@ use super::named_button;
 use std::path::{Path, PathBuf};
 
 use egui::{Color32, Ui};
-use egui_plot::{GridMark, Legend, Line, LineStyle, Plot, PlotPoints, Points};
+use egui_plot::{FilledArea, GridMark, Legend, Line, LineStyle, Plot, PlotPoints, Points};
 
 use crate::app::input::Action;
 use crate::app::session::{Lane, Session};
@@ -47,41 +48,63 @@ fn power_label(mark: GridMark, _range: &std::ops::RangeInclusive<f64>) -> String
     }
 }
 
-/// Points per line drawn: about one per pixel column of a plot a third of the window wide.
+/// Most points a line draws (a plot wider than twice this still draws this many).
 const DISPLAY_POINTS: usize = 400;
 
-/// The min-max band of a series as its two edges, (upper, lower), at most [`DISPLAY_POINTS`]
-/// points each: two thin lines cost the software rasteriser far less than a filled band or a
-/// zig-zag through every bucket.
-fn band(series: &Decimated, log: bool) -> (Vec<[f64; 2]>, Vec<[f64; 2]>) {
-    let f = |v: f64| if log { log10(v) } else { v };
-    let shown = series.for_display(DISPLAY_POINTS);
-    let upper = shown.iter().map(|&(t, _, hi)| [t, f(hi)]).collect();
-    let lower = shown.iter().map(|&(t, lo, _)| [t, f(lo)]).collect();
-    (upper, lower)
+/// Points a line draws in a plot `width` points wide: one per three points of width. The
+/// software rasteriser pays per triangle, and a feathered line costs six triangles a point, so
+/// a line costs what its plot's width asks for, not what the history holds; each point is the
+/// min and max of the buckets it merges, so no spike is lost by drawing fewer.
+fn display_points(width: f32) -> usize {
+    ((width / 3.0) as usize).clamp(16, DISPLAY_POINTS)
 }
 
-/// Both edges of a band as lines of one name and colour (the lower one thinner).
-fn band_lines<'a>(
-    plot: &mut egui_plot::PlotUi<'a>,
-    name: &str,
-    colour: Color32,
-    edges: (Vec<[f64; 2]>, Vec<[f64; 2]>),
-    style: LineStyle,
-) {
-    let (upper, lower) = edges;
-    plot.line(
-        Line::new(name, PlotPoints::from(upper))
-            .color(colour)
-            .style(style),
-    );
-    plot.line(
-        Line::new(name, PlotPoints::from(lower))
-            .color(colour.gamma_multiply(0.6))
-            .style(style)
-            .width(1.0),
-    );
+/// A series as drawn: each point's time, the band's edges (min and max of the buckets it
+/// merges) and the edge farther from zero (the larger error, the larger energy excursion), on
+/// the plot's axis (log10 on a log axis).
+struct Shown {
+    t: Vec<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    far: Vec<[f64; 2]>,
 }
+
+fn shown(series: &Decimated, points: usize, log: bool) -> Shown {
+    let f = |v: f64| if log { log10(v) } else { v };
+    let buckets = series.for_display(points);
+    let mut s = Shown {
+        t: Vec::with_capacity(buckets.len()),
+        lo: Vec::with_capacity(buckets.len()),
+        hi: Vec::with_capacity(buckets.len()),
+        far: Vec::with_capacity(buckets.len()),
+    };
+    for (t, lo, hi) in buckets {
+        s.t.push(t);
+        s.lo.push(f(lo));
+        s.hi.push(f(hi));
+        s.far
+            .push([t, f(if hi.abs() >= lo.abs() { hi } else { lo })]);
+    }
+    s
+}
+
+/// A series as a band from each point's min to its max, filled translucent in the lane's
+/// colour (an unfeathered mesh: two triangles a point), and a line along its edge farther
+/// from zero, which carries the hover. Where min and max agree the band is empty and the line
+/// is the series.
+fn band_and_line(plot: &mut egui_plot::PlotUi<'_>, name: &str, colour: Color32, s: Shown) {
+    if s.t.len() > 1 {
+        plot.add(
+            FilledArea::new(name, &s.t, &s.lo, &s.hi)
+                .fill_color(colour.gamma_multiply(BAND_ALPHA))
+                .allow_hover(false),
+        );
+    }
+    plot.line(Line::new(name, PlotPoints::from(s.far)).color(colour));
+}
+
+/// The band's opacity.
+const BAND_ALPHA: f32 = 0.3;
 
 fn colour(lane: &Lane) -> Color32 {
     let [r, g, b, _] = lane.colour();
@@ -113,7 +136,9 @@ pub fn show(ui: &mut Ui, session: &Session, tab: &mut usize, out: &mut Vec<Actio
         }
         match &session.saved_note {
             Some(note) => ui.weak(note),
-            None => ui.weak("lane colours as above, body 0 dashed; hover reads t and the value"),
+            None => ui.weak(
+                "lane colours as above; bands span min to max, body 0 dashed; hover reads t and the value",
+            ),
         };
     });
     // The panel's height less the row above: the panel is as tall as what it holds, so the
@@ -136,6 +161,7 @@ pub fn show(ui: &mut Ui, session: &Session, tab: &mut usize, out: &mut Vec<Actio
 }
 
 fn error_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
+    let points = display_points(ui.available_width());
     Plot::new("error")
         // The panel is the background: a second one only costs the software rasteriser.
         .show_background(false)
@@ -149,25 +175,30 @@ fn error_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
             for lane in lanes {
                 let name = lane.sim.world.integrator().name();
                 let s: &LaneSeries = &lane.history.series;
-                band_lines(
-                    plot,
-                    name,
-                    colour(lane),
-                    band(&s.error_max, true),
-                    LineStyle::Solid,
-                );
-                let (first, _) = band(&s.error_first, true);
-                plot.line(
-                    Line::new(format!("{name}, body 0"), PlotPoints::from(first))
-                        .color(colour(lane))
-                        .style(LineStyle::dashed_loose())
-                        .width(1.0),
-                );
+                band_and_line(plot, name, colour(lane), shown(&s.error_max, points, true));
+                // Body 0 is drawn where it is not the largest error: with one body measured
+                // (or body 0 always the worst) its line would lie on the largest one.
+                if body_zero_differs(s) {
+                    let first = shown(&s.error_first, points, true).far;
+                    plot.line(
+                        Line::new(format!("{name}, body 0"), PlotPoints::from(first))
+                            .color(colour(lane))
+                            .style(LineStyle::dashed_loose())
+                            .width(1.0),
+                    );
+                }
             }
         });
 }
 
+/// Whether the error plot draws body 0's line: not while its series equals the largest error's
+/// bucket for bucket (one body measured, or body 0 always the worst), where it would lie on it.
+pub fn body_zero_differs(series: &LaneSeries) -> bool {
+    series.error_first.buckets() != series.error_max.buckets()
+}
+
 fn energy_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
+    let points = display_points(ui.available_width());
     Plot::new("energy")
         // The panel is the background: a second one only costs the software rasteriser.
         .show_background(false)
@@ -178,18 +209,59 @@ fn energy_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
         .show(ui, |plot| {
             for lane in lanes {
                 let name = lane.sim.world.integrator().name();
-                let edges = band(&lane.history.series.energy, false);
-                band_lines(plot, name, colour(lane), edges, LineStyle::Solid);
+                let s = shown(&lane.history.series.energy, points, false);
+                band_and_line(plot, name, colour(lane), s);
             }
         });
 }
 
+/// The corner of the work-precision plot for its legend: the one whose quarter of the points'
+/// bounding box holds the fewest points (log axes), so the legend hides none where it can. The
+/// points run from cheap and coarse (top left) to dear and accurate (bottom right), and where a
+/// lane sits between them depends on the scene; ties go to the first of top right, bottom left,
+/// bottom right, top left.
+pub fn legend_corner(points: &[[f64; 2]]) -> egui_plot::Corner {
+    use egui_plot::Corner;
+    let span = |k: usize| {
+        let lo = points.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min);
+        let hi = points
+            .iter()
+            .map(|p| p[k])
+            .fold(f64::NEG_INFINITY, f64::max);
+        (lo + hi) / 2.0
+    };
+    let (mx, my) = (span(0), span(1));
+    let inside = |right: bool, top: bool| {
+        points
+            .iter()
+            .filter(|p| (p[0] > mx) == right && (p[1] > my) == top)
+            .count()
+    };
+    [
+        (Corner::RightTop, inside(true, true)),
+        (Corner::LeftBottom, inside(false, false)),
+        (Corner::RightBottom, inside(true, false)),
+        (Corner::LeftTop, inside(false, true)),
+    ]
+    .into_iter()
+    .min_by_key(|&(_, n)| n)
+    .map_or(Corner::RightTop, |(c, _)| c)
+}
+
 fn work_precision_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
+    let points: Vec<(&Lane, [f64; 2])> = lanes
+        .iter()
+        .filter_map(|lane| {
+            let (x, y) = work_precision(lane)?;
+            Some((lane, [log10(x), log10(y)]))
+        })
+        .collect();
+    let corner = legend_corner(&points.iter().map(|&(_, p)| p).collect::<Vec<_>>());
     Plot::new("work-precision")
         // The panel is the background: a second one only costs the software rasteriser.
         .show_background(false)
         .height(height)
-        .legend(Legend::default().position(egui_plot::Corner::RightTop))
+        .legend(Legend::default().position(corner))
         .x_axis_label("force evaluations per sim second")
         .y_axis_label("max error so far (m)")
         .x_axis_formatter(power_label)
@@ -209,13 +281,10 @@ fn work_precision_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
             _ => None,
         })
         .show(ui, |plot| {
-            for lane in lanes {
-                let Some((x, y)) = work_precision(lane) else {
-                    continue;
-                };
+            for (lane, point) in points {
                 let name = lane.sim.world.integrator().name();
                 plot.points(
-                    Points::new(name, PlotPoints::from(vec![[log10(x), log10(y)]]))
+                    Points::new(name, PlotPoints::from(vec![point]))
                         .color(colour(lane))
                         .radius(5.0)
                         .filled(true),
