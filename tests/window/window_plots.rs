@@ -217,6 +217,17 @@ fn body_0_is_drawn_only_where_it_is_not_the_largest_error() {
 }
 
 #[test]
+fn each_lanes_line_is_wider_than_the_next_so_coinciding_lines_stay_visible() {
+    use volley::app::panel::plots::line_width;
+    assert_eq!(line_width(0, 1), 1.5);
+    let widths: Vec<f32> = (0..4).map(|k| line_width(k, 4)).collect();
+    assert_eq!(widths, [5.25, 4.0, 2.75, 1.5]);
+    // Past four lanes the first ones stay at the widest.
+    assert_eq!(line_width(0, 16), 5.25);
+    assert_eq!(line_width(15, 16), 1.5);
+}
+
+#[test]
 fn the_work_precision_legend_takes_the_corner_with_the_fewest_points() {
     use egui_plot::Corner;
     use volley::app::panel::plots::legend_corner;
