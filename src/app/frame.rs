@@ -26,12 +26,7 @@ impl App {
             screen: &screen,
         };
         let target = frame.texture.create_view(&Default::default());
-        let scene = (gfx.scene_format() != gfx.format()).then(|| {
-            frame.texture.create_view(&wgpu::TextureViewDescriptor {
-                format: Some(gfx.scene_format()),
-                ..Default::default()
-            })
-        });
+        let scene = crate::render::capture::view_in(&frame.texture, gfx.scene_format());
         let targets = Targets {
             scene: scene.as_ref().unwrap_or(&target),
             ui: &target,

@@ -6,10 +6,12 @@
 //! Two views of one surface texture where the adapter allows it: the 3D view draws into an sRGB
 //! view (its shaders work in linear colour), egui into the plain 8-bit one, because egui blends
 //! in gamma space (egui-wgpu warns on an sRGB target and prefers `Bgra8Unorm`). On the software
-//! adapter that also spares every panel pixel the sRGB conversions: the panel and the plots
-//! drew in 1.4 ms less a frame (`scripts/bench-window`, docs/performance.md). An adapter without
-//! surface view formats gets one sRGB surface for both, as before. A lost surface is recreated, an outdated one reconfigured,
-//! a timed-out or occluded frame skipped: none of them ends the program.
+//! adapter that also spares every panel pixel the sRGB conversions (docs/performance.md, "The
+//! window on a software adapter"). An adapter without surface view formats gets one sRGB
+//! surface for both, as before.
+//!
+//! A lost surface is recreated, an outdated one reconfigured, a timed-out or occluded frame
+//! skipped: none of them ends the program.
 
 use std::sync::Arc;
 
@@ -43,7 +45,6 @@ impl WindowGpu {
         let surface = instance
             .create_surface(window.clone())
             .map_err(|e| GpuError::Surface(e.to_string()))?;
-        keep_freed_heap();
         let gpu = Gpu::open(instance, Some(&surface))?;
         let caps = surface.get_capabilities(&gpu.adapter);
         let (format, scene_format) = pick_formats(&caps.formats, gpu.surface_view_formats())
@@ -61,11 +62,7 @@ impl WindowGpu {
                 .first()
                 .copied()
                 .unwrap_or(wgpu::CompositeAlphaMode::Auto),
-            view_formats: if scene_format == format {
-                vec![]
-            } else {
-                vec![scene_format]
-            },
+            view_formats: crate::render::capture::view_formats(format, scene_format),
             color_space: wgpu::SurfaceColorSpace::Auto,
         };
         let renderer = Renderer::new(&gpu, scene_format);
@@ -206,7 +203,8 @@ pub fn pick_formats(
 /// frame faulted it in again: about 1 ms a frame here (strace: one `madvise` a frame; perf:
 /// page faults and unmapping in the frame's thread). Memory the window held at its busiest
 /// frame stays held; nothing else changes. glibc on Linux only; elsewhere nothing is done.
-fn keep_freed_heap() {
+/// Called once, as the window starts.
+pub fn keep_freed_heap() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: `mallopt` only sets a tuning parameter of the allocator; glibc serialises it
     // against allocations in other threads.

@@ -91,6 +91,31 @@ impl Image {
     }
 }
 
+/// The view formats a texture of `format` is made with so the 3D view can draw into it in
+/// `scene_format` (its sRGB twin): none when the two are the same.
+pub fn view_formats(
+    format: wgpu::TextureFormat,
+    scene_format: wgpu::TextureFormat,
+) -> Vec<wgpu::TextureFormat> {
+    if scene_format == format {
+        Vec::new()
+    } else {
+        vec![scene_format]
+    }
+}
+
+/// A view of `texture` in `format` where that differs from the texture's own (its sRGB twin,
+/// which the texture must list among its [`view_formats`]); `None` where the texture's own
+/// view serves. The window's surface and the offscreen capture make the 3D view's target so.
+pub fn view_in(texture: &wgpu::Texture, format: wgpu::TextureFormat) -> Option<wgpu::TextureView> {
+    (format != texture.format()).then(|| {
+        texture.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(format),
+            ..Default::default()
+        })
+    })
+}
+
 /// A texture to render into and read back.
 #[derive(Debug)]
 pub struct OffscreenTarget {
@@ -116,8 +141,6 @@ impl OffscreenTarget {
         format: wgpu::TextureFormat,
         scene_format: wgpu::TextureFormat,
     ) -> OffscreenTarget {
-        let twin = [scene_format];
-        let view_formats: &[wgpu::TextureFormat] = if scene_format == format { &[] } else { &twin };
         let size = (size.0.max(1), size.1.max(1));
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("offscreen"),
@@ -131,15 +154,10 @@ impl OffscreenTarget {
             dimension: wgpu::TextureDimension::D2,
             format,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats,
+            view_formats: &view_formats(format, scene_format),
         });
         let view = texture.create_view(&Default::default());
-        let scene_view = (scene_format != format).then(|| {
-            texture.create_view(&wgpu::TextureViewDescriptor {
-                format: Some(scene_format),
-                ..Default::default()
-            })
-        });
+        let scene_view = view_in(&texture, scene_format);
         OffscreenTarget {
             texture,
             view,

@@ -572,16 +572,9 @@ impl<F: ForceModel> Scheme for Exact<'_, F> {
             let (p, mv) = crate::exact::linear_flow_momentum(s.p, s.mv, w.m, &lin, h);
             return (BodyState { p, mv }, DVec3::ZERO);
         }
-        let v0 = s.mv * w.inv;
-        // Without damping the drag flow is constant acceleration, called here directly: the
-        // fast-path models' `kd` is the constant 0, so this folds into the vectorised loop. Left
-        // to `linear_drag_flow`'s own test, the call stayed out of line once this step grew
-        // the branches above: a call per body, 25 times the step on `bench/gravity`. Same bits.
-        let (p, v) = if lin.kd == 0.0 {
-            crate::exact::constant_accel(s.p, v0, lin.a0, h)
-        } else {
-            crate::exact::linear_drag_flow(s.p, v0, lin.a0, lin.kd, h)
-        };
+        // Always inlined (see it), so the fast-path models' constant `kd` of 0 folds its test
+        // into the vectorised loop.
+        let (p, v) = crate::exact::linear_drag_flow(s.p, s.mv * w.inv, lin.a0, lin.kd, h);
         (BodyState { p, mv: w.m * v }, DVec3::ZERO)
     }
     fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {

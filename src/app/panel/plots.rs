@@ -52,7 +52,7 @@ fn power_label(mark: GridMark, _range: &std::ops::RangeInclusive<f64>) -> String
 const DISPLAY_POINTS: usize = 400;
 
 /// Points a line draws in a plot `width` points wide: one per three points of width. The
-/// software rasteriser pays per triangle, and a feathered line costs six triangles a point, so
+/// software rasteriser pays per triangle, and a feathered line costs four to six a point, so
 /// a line costs what its plot's width asks for, not what the history holds; each point is the
 /// min and max of the buckets it merges, so no spike is lost by drawing fewer.
 fn display_points(width: f32) -> usize {
@@ -240,33 +240,45 @@ fn energy_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
         });
 }
 
-/// The corner of the work-precision plot for its legend: the one whose quarter of the points'
-/// bounding box holds the fewest points (log axes), so the legend hides none where it can. The
-/// points run from cheap and coarse (top left) to dear and accurate (bottom right), and where a
-/// lane sits between them depends on the scene; ties go to the first of top right, bottom left,
-/// bottom right, top left.
+/// Share of the work-precision diagram's width and height (measured from a corner) its legend
+/// covers: four names take about two thirds of a third-of-the-window plot's width.
+const LEGEND_SHARE: (f64, f64) = (0.7, 0.6);
+
+/// The corner of the work-precision plot for its legend: the one whose legend-sized share of
+/// the points' bounding box ([`LEGEND_SHARE`], log axes) holds the fewest points, so the legend
+/// hides none where it can. The points run from cheap and coarse (top left) to dear and
+/// accurate (bottom right), and where a lane sits between them depends on the scene; ties go to
+/// the first of top right, bottom left, bottom right, top left.
 pub fn legend_corner(points: &[[f64; 2]]) -> egui_plot::Corner {
     use egui_plot::Corner;
-    let span = |k: usize| {
+    // Each point's place in the bounding box, 0 to 1 on both axes (0.5 where the box is flat).
+    let range = |k: usize| {
         let lo = points.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min);
         let hi = points
             .iter()
             .map(|p| p[k])
             .fold(f64::NEG_INFINITY, f64::max);
-        (lo + hi) / 2.0
+        (lo, hi - lo)
     };
-    let (mx, my) = (span(0), span(1));
-    let inside = |right: bool, top: bool| {
+    let ((x0, w), (y0, h)) = (range(0), range(1));
+    let unit = |v: f64, lo: f64, span: f64| if span > 0.0 { (v - lo) / span } else { 0.5 };
+    let (sx, sy) = LEGEND_SHARE;
+    let under = |right: bool, top: bool| {
         points
             .iter()
-            .filter(|p| (p[0] > mx) == right && (p[1] > my) == top)
+            .filter(|p| {
+                let (x, y) = (unit(p[0], x0, w), unit(p[1], y0, h));
+                let in_x = if right { x >= 1.0 - sx } else { x <= sx };
+                let in_y = if top { y >= 1.0 - sy } else { y <= sy };
+                in_x && in_y
+            })
             .count()
     };
     [
-        (Corner::RightTop, inside(true, true)),
-        (Corner::LeftBottom, inside(false, false)),
-        (Corner::RightBottom, inside(true, false)),
-        (Corner::LeftTop, inside(false, true)),
+        (Corner::RightTop, under(true, true)),
+        (Corner::LeftBottom, under(false, false)),
+        (Corner::RightBottom, under(true, false)),
+        (Corner::LeftTop, under(false, true)),
     ]
     .into_iter()
     .min_by_key(|&(_, n)| n)
@@ -286,7 +298,8 @@ fn work_precision_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
         // The panel is the background: a second one only costs the software rasteriser.
         .show_background(false)
         .height(height)
-        .legend(Legend::default().position(corner))
+        // Half see-through: where every corner holds a point, the one under it still shows.
+        .legend(Legend::default().position(corner).background_alpha(0.5))
         .x_axis_label("force evaluations per sim second")
         .y_axis_label("max error so far (m)")
         .x_axis_formatter(power_label)
