@@ -19,6 +19,7 @@
 use std::io::Cursor;
 
 use volley_sim::command::{Command, parse_script};
+use volley_sim::pacing::{DisplayTiming, read_capture};
 use volley_sim::replay::format::{CRC_LEN, HEAD_LEN, PREAMBLE_LEN, head_check};
 use volley_sim::replay::{Recording, Replay};
 use volley_sim::scene::{self, Scene};
@@ -277,5 +278,46 @@ pub fn shard(data: &[u8]) {
             "a shard file reads back to another"
         );
         let _ = merge(&[("fuzz.json".to_string(), part)]);
+    }
+}
+
+/// **PresentMon captures** (the loop lab's `--display FILE.csv`): read for the application with
+/// the most rows, and for `dwm.exe` by name; a capture that reads holds at most
+/// [`volley_sim::pacing::capture::MAX_CAPTURE_PRESENTS`] presents, its `sampled` times never
+/// decrease from 0, and every display time is at or after its present and within
+/// [`volley_sim::pacing::capture::MAX_CAPTURE_SPAN`] of the first.
+pub fn capture(data: &[u8]) {
+    let Some(text) = text(data) else { return };
+    for application in [None, Some("dwm.exe")] {
+        if let Ok(timing) = read_capture(text, "fuzz.csv", application) {
+            check_timing(&timing);
+        }
+    }
+}
+
+fn check_timing(timing: &DisplayTiming) {
+    use volley_sim::pacing::capture::{MAX_CAPTURE_PRESENTS, MAX_CAPTURE_SPAN};
+    assert!(
+        timing.name.starts_with("fuzz.csv ("),
+        "a capture's name is its file and application: {}",
+        timing.name
+    );
+    assert!(
+        !timing.presents.is_empty(),
+        "a capture that reads has presents"
+    );
+    assert!(timing.presents.len() <= MAX_CAPTURE_PRESENTS);
+    assert_eq!(timing.presents[0].sampled, std::time::Duration::ZERO);
+    let mut last = std::time::Duration::ZERO;
+    for (i, p) in timing.presents.iter().enumerate() {
+        assert!(p.sampled >= last, "present {i}: sampled goes backwards");
+        last = p.sampled;
+        if let Some(shown) = p.shown {
+            assert!(shown >= p.sampled, "present {i}: shown before its sample");
+            assert!(
+                shown <= MAX_CAPTURE_SPAN,
+                "present {i}: shown {shown:?} past the span limit"
+            );
+        }
     }
 }

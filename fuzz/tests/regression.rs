@@ -64,8 +64,14 @@ fn shard_regressions() {
     replay("shard", volley_fuzz::shard);
 }
 
+#[test]
+fn capture_regressions() {
+    // The shipped capture trimmed to its first rows, and a malformed one.
+    assert!(replay("capture", volley_fuzz::capture) >= 2);
+}
+
 /// The properties pass on the inputs they are seeded from: every bundled scene, the replay
-/// tests' data, the golden recording. A property that refused everything (or panicked on valid
+/// tests' data, the golden recording, the shipped capture. A property that refused everything (or panicked on valid
 /// input) would fail here.
 #[test]
 fn properties_hold_on_the_valid_seeds() {
@@ -98,4 +104,9 @@ fn properties_hold_on_the_valid_seeds() {
         volley_fuzz::take_evals() > 0,
         "the golden recording was replayed"
     );
+    let capture =
+        std::fs::read_to_string(root.join("assets/captures/presentmon_test_case_4.csv")).unwrap();
+    volley_sim::pacing::read_capture(&capture, "presentmon_test_case_4.csv", None)
+        .expect("the shipped capture reads");
+    volley_fuzz::capture(capture.as_bytes());
 }
