@@ -726,16 +726,20 @@ fn read_limited(
             }
             Shown::Never => None,
         };
+        // Not finite when a time overflows a double in milliseconds (1e306 seconds).
         let latest = shown.unwrap_or(row.present).max(row.present) - t0;
-        if latest > span_ms {
+        if !latest.is_finite() || latest > span_ms {
+            let got = if latest.is_finite() {
+                format!("one of {:.3} s", latest / 1e3)
+            } else {
+                "a time past any finite one".into()
+            };
             return Err(reader.error(
                 row.line,
                 time_col,
                 format!(
-                    "expected a capture of at most {} s (a week) from its first present, got one \
-                     of {:.3} s",
+                    "expected a capture of at most {} s (a week) from its first present, got {got}",
                     MAX_CAPTURE_SPAN.as_secs(),
-                    latest / 1e3
                 ),
             ));
         }
@@ -1063,6 +1067,11 @@ mod tests {
                 "g,0,1,1\ng,0,0.5,1\n",
                 "cap.csv:3:3: TimeInSeconds: times go backwards: the present at 500 ms is earlier \
                  than line 2's at 1000 ms",
+            ),
+            (
+                "g,0,1e307,1\n",
+                "cap.csv:2:3: TimeInSeconds: expected a capture of at most 604800 s (a week) from \
+                 its first present, got a time past any finite one",
             ),
             (
                 "g,0,0,1\ng,0,700000,1\n",
