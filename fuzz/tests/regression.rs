@@ -1,7 +1,10 @@
 //! Replays every file of `fuzz/regression/<target>/` through its fuzz target's property with the
 //! stable toolchain and no fuzzer, so each input a fuzzing run found (a crash, a hang, an
 //! allocation past the limit) stays fixed in CI. `scripts/fuzz` copies new findings here; each
-//! file is named for what it found.
+//! file is named for what it found. Beside the findings, a file named `valid-*` is an input the
+//! target's reader must accept and one named `malformed-*` an input it must refuse: the targets
+//! with no finding yet hold one of each, so their property runs on a file that gets past the
+//! reader and on one that does not. A directory with no input at all fails its test.
 
 use std::path::{Path, PathBuf};
 
@@ -11,8 +14,9 @@ use std::path::{Path, PathBuf};
 /// again exactly, without timing anything.
 const MAX_INPUT_EVALS: u64 = 50_000_000;
 
-/// Runs `property` on every file of `regression/<target>`; returns how many there were.
-fn replay(target: &str, property: fn(&[u8])) -> usize {
+/// The inputs of `regression/<target>`, sorted; fails if there is none, so a test can never
+/// replay an empty directory and pass.
+fn inputs(target: &str) -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("regression")
         .join(target);
@@ -22,6 +26,17 @@ fn replay(target: &str, property: fn(&[u8])) -> usize {
         .filter(|p| p.is_file() && p.file_name().is_some_and(|n| n != ".gitkeep"))
         .collect();
     files.sort();
+    assert!(
+        !files.is_empty(),
+        "{}: no input, so the test would replay nothing",
+        dir.display()
+    );
+    files
+}
+
+/// Runs `property` on every file of `regression/<target>`; returns how many there were.
+fn replay(target: &str, property: fn(&[u8])) -> usize {
+    let files = inputs(target);
     for file in &files {
         let data = std::fs::read(file).unwrap();
         volley_fuzz::take_evals();
@@ -43,8 +58,33 @@ fn scene_regressions() {
     assert!(replay("scene", volley_fuzz::scene) >= 2);
 }
 
+/// Checks that the reader `reads` (true when it accepts the text) accepts every `valid-*` input
+/// of `regression/<target>` and refuses every `malformed-*` one, and that there is at least one
+/// of each.
+fn reader_sorts(target: &str, reads: fn(&str, &str) -> bool) {
+    let (mut valid, mut malformed) = (0, 0);
+    for file in inputs(target) {
+        let name = file.file_name().unwrap().to_str().unwrap().to_owned();
+        let text = std::fs::read_to_string(&file).unwrap();
+        if name.starts_with("valid-") {
+            assert!(reads(&text, &name), "{}: refused", file.display());
+            valid += 1;
+        } else if name.starts_with("malformed-") {
+            assert!(!reads(&text, &name), "{}: accepted", file.display());
+            malformed += 1;
+        }
+    }
+    assert!(
+        valid > 0 && malformed > 0,
+        "regression/{target}: {valid} valid-* and {malformed} malformed-* inputs, one of each at least"
+    );
+}
+
 #[test]
 fn command_regressions() {
+    reader_sorts("commands", |text, name| {
+        volley_sim::command::parse_script(text, name).is_ok()
+    });
     replay("commands", volley_fuzz::commands);
 }
 
@@ -56,11 +96,17 @@ fn recording_regressions() {
 
 #[test]
 fn window_script_regressions() {
+    reader_sorts("window_script", |text, name| {
+        volley::app::script::parse(text, name).is_ok()
+    });
     replay("window_script", volley_fuzz::window_script);
 }
 
 #[test]
 fn shard_regressions() {
+    reader_sorts("shard", |text, name| {
+        volley_sim::study::shard::ShardResult::from_json(text, name).is_ok()
+    });
     replay("shard", volley_fuzz::shard);
 }
 
