@@ -2,14 +2,74 @@
 //! AVX-512; `volley::step::simd_level`). A replay recorded on one machine must verify on any
 //! other, so every version must produce the same bits. These tests run the CLI with
 //! `VOLLEY_SIMD` capping the choice and compare the state hashes it prints. On a CPU without
-//! AVX2 every run takes the baseline path and the comparison is trivially equal; `scripts/test`
-//! also runs this file in release, where the loops are actually vectorised.
+//! AVX2 every run takes the baseline path and the comparison is trivially equal, and without
+//! AVX-512 the `avx512` runs take the AVX2 loop: each test says so on stderr, past the test
+//! harness's capture ([`check_widths`]). Under `CI=true` a test fails if the CPU has a width
+//! but the dispatch would not run it. `scripts/test` also runs this file in release, where the
+//! loops are actually vectorised.
 
 use crate::support;
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Once;
 
 use volley::Integrator;
+use volley::simd::{SimdLevel, simd_level_for};
+
+/// Whether this CPU has AVX2 and AVX-512 (`avx512f`), as the dispatch detects them.
+fn cpu_widths() -> (bool, bool) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        (
+            std::arch::is_x86_feature_detected!("avx2"),
+            std::arch::is_x86_feature_detected!("avx512f"),
+        )
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        (false, false)
+    }
+}
+
+/// Checks, before a test compares the widths, which loop each `VOLLEY_SIMD` cap runs here (the
+/// child process's `simd_level` is `simd_level_for` of its `VOLLEY_SIMD`). A width this CPU
+/// lacks is said once per test binary on stderr, written past the harness's capture so it
+/// shows in a passing run: its runs compare a narrower loop with the baseline. A width the CPU
+/// has that the dispatch does not choose under its cap leaves that loop untested: said on
+/// stderr, and a failure under `CI=true`.
+fn check_widths() {
+    static SAID: Once = Once::new();
+    let (avx2, avx512) = cpu_widths();
+    let ci = std::env::var("CI").is_ok_and(|v| v == "true");
+    let mut wrong = Vec::new();
+    let mut missing = Vec::new();
+    for (cap, level, name, has) in [
+        ("baseline", SimdLevel::Baseline, "the baseline", true),
+        ("avx2", SimdLevel::Avx2, "AVX2", avx2),
+        ("avx512", SimdLevel::Avx512, "AVX-512 (avx512f)", avx512),
+    ] {
+        let chosen = simd_level_for(Some(cap));
+        if !has {
+            missing.push(format!(
+                "SIMD: this CPU has no {name}: the VOLLEY_SIMD={cap} runs take the {chosen:?} \
+                 loop, so the {level:?} loop is NOT compared with the baseline on this machine"
+            ));
+        } else if chosen != level {
+            wrong.push(format!(
+                "SIMD: this CPU has {name} but under VOLLEY_SIMD={cap} the dispatch runs the \
+                 {chosen:?} loop, so the {level:?} loop is not tested"
+            ));
+        }
+    }
+    SAID.call_once(|| {
+        let mut err = std::io::stderr().lock();
+        for line in missing.iter().chain(&wrong) {
+            let _ = writeln!(err, "{line}");
+        }
+    });
+    assert!(!ci || wrong.is_empty(), "CI=true: {}", wrong.join("; "));
+}
 
 /// What `volley headless SCENE --no-table ARGS` prints with `VOLLEY_SIMD=simd`: the events and
 /// the summary line with the state hash.
@@ -28,6 +88,7 @@ fn output(simd: &str, scene: &Path, args: &[&str]) -> String {
 /// Asserts that every instruction set prints the same events and summary (hash included) for
 /// every integrator.
 fn same_for_every_width(scene: &Path, ticks: &str) {
+    check_widths();
     for integrator in Integrator::ALL {
         let args = ["--ticks", ticks, "--integrator", integrator.name()];
         let baseline = output("baseline", scene, &args);
@@ -86,6 +147,7 @@ fn streaming_worlds_give_the_same_bits_as_the_baseline_loop() {
     );
     let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("simd_streaming.ron");
     std::fs::write(&path, text).expect("the test's temp dir is writable");
+    check_widths();
     for integrator in [
         Integrator::ExplicitEuler,
         Integrator::VelocityVerlet,
