@@ -11,6 +11,10 @@
 //! of dropped time are counted. What is left is the fraction `alpha` of a tick, used to draw
 //! between the previous and the current state.
 //!
+//! How the delta becomes ticks is the clock's [`LoopPolicy`] ([`policy`]): the plain
+//! accumulator by default, or snapping, quantising or hysteresis; a policy never changes what a
+//! tick computes.
+//!
 //! Frame deltas come from a [`FrameSource`]: the real monotonic clock in the window, or virtual
 //! clocks (steady, seeded jitter, a hitch, a script) in headless runs and tests, which drive
 //! this very clock.
@@ -18,6 +22,11 @@
 use std::time::{Duration, Instant};
 
 use crate::rng::SplitMix64;
+
+pub mod policy;
+
+pub use policy::LoopPolicy;
+use policy::PolicyState;
 
 /// `a / b` in whole nanoseconds. Both fit 64 bits in any real run (584 years), and a 64-bit
 /// division is several times cheaper than the 128-bit one `as_nanos` implies; the result is
@@ -84,6 +93,8 @@ pub struct FixedClock {
     tick: u64,
     dropped: Duration,
     last: FrameTicks,
+    policy: LoopPolicy,
+    policy_state: PolicyState,
 }
 
 /// Why a clock setting was refused.
@@ -117,7 +128,21 @@ impl FixedClock {
             tick: 0,
             dropped: Duration::ZERO,
             last: FrameTicks::default(),
+            policy: LoopPolicy::Accumulator,
+            policy_state: PolicyState::new(),
         }
+    }
+
+    /// The loop policy: how a frame's delta becomes ticks.
+    pub fn policy(&self) -> LoopPolicy {
+        self.policy
+    }
+
+    /// Changes the loop policy; what the old one carried (a history, a leftover) is forgotten,
+    /// the accumulator and the tick are kept.
+    pub fn set_policy(&mut self, policy: LoopPolicy) {
+        self.policy = policy;
+        self.policy_state = PolicyState::new();
     }
 
     /// Takes one frame's delta and returns how many ticks to run.
@@ -132,8 +157,38 @@ impl FixedClock {
             } else {
                 frame_delta
             };
-            self.accumulator += self.scale(delta);
-            let due = whole_steps(self.accumulator, self.timestep);
+            let delta = self.scale(delta);
+            let due = match self.policy {
+                LoopPolicy::Accumulator => {
+                    self.accumulator += delta;
+                    whole_steps(self.accumulator, self.timestep)
+                }
+                LoopPolicy::Snap {
+                    refresh,
+                    tolerance,
+                    average,
+                } => {
+                    self.accumulator +=
+                        policy::snap(&mut self.policy_state, delta, refresh, tolerance, average);
+                    whole_steps(self.accumulator, self.timestep)
+                }
+                LoopPolicy::Quantise { refresh } => {
+                    self.accumulator += policy::quantise(&mut self.policy_state, delta, refresh);
+                    whole_steps(self.accumulator, self.timestep)
+                }
+                LoopPolicy::Hysteresis { jitter_fix } => {
+                    let (due, left) = policy::hysteresis(
+                        &mut self.policy_state,
+                        self.accumulator,
+                        delta,
+                        self.timestep,
+                        jitter_fix,
+                    );
+                    // The accumulator holds what is past the ticks it grants.
+                    self.accumulator = left + self.timestep * due as u32;
+                    u128::from(due)
+                }
+            };
             let steps = due.min(u128::from(self.max_steps_per_frame)) as u32;
             // Whole steps beyond the cap are dropped; the fraction of a step is kept.
             let over = (due - u128::from(steps)) as u32;

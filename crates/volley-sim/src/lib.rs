@@ -81,6 +81,7 @@ pub mod sim_loop;
 //    pre-check, firing solutions solved on the stepped trajectory, the in-memory history for
 //    rewinding.
 pub mod firing;
+pub mod pacing;
 pub mod replay;
 pub mod stability;
 pub mod study;

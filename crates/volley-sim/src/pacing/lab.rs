@@ -1,0 +1,258 @@
+//! One loop-lab run: a world stepped by [`SimLoop`] under a display timing and a loop policy,
+//! every draw mode evaluated on the same frames against the exact motion at each frame's
+//! display time.
+//!
+//! Time origin: game time 0 (tick 0) is the first present's sample. A frame sampled at wall
+//! time `s` and shown at `D` should show the body where the exact solution has it at `D - s0`;
+//! what it shows is the draw mode's position, built from the state before and after the frame's
+//! last tick as the window draws it.
+
+use std::time::Duration;
+
+use glam::DVec3;
+
+use crate::body::BodyState;
+use crate::clock::LoopPolicy;
+use crate::exact::closed_form;
+use crate::integrate::Integrator;
+use crate::scene::{self, Scene};
+use crate::sim_loop::{LoopError, SimLoop, TickObserver};
+use crate::world::World;
+
+use super::DisplayTiming;
+use super::metrics::{FrameRecord, Metrics};
+
+/// Where a frame is drawn, given the state before and after the frame's last tick.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum DrawMode {
+    /// The state at the current tick. Shows game time `tick * dt`: on average half a tick
+    /// behind the frame's sampled time, up to a whole tick.
+    Current,
+    /// Between the previous and the current tick by the clock's alpha (Fiedler; the window's
+    /// default until the loop lab). Shows `(tick - 1 + alpha) * dt`: exactly one tick behind
+    /// the sampled time, always.
+    Interpolate,
+    /// Past the current tick by the velocity over `alpha * dt` (Unity's extrapolate). Shows
+    /// the sampled time; off by the curvature of the path over that fraction of a tick.
+    Extrapolate,
+    /// Extrapolated by the velocity to the frame's predicted present time: the sampled time
+    /// plus the median of the last 15 frame deltas, the interval after which a vsynced frame
+    /// reaches the screen (Volley's own: no display feedback is needed, only the deltas the
+    /// game already measures). Shows the expected display time; off by the curvature over up
+    /// to one refresh and a tick, and by a misprediction where frames are late.
+    Predict,
+}
+
+impl DrawMode {
+    /// Every draw mode, in the order the tables list them.
+    pub const ALL: [DrawMode; 4] = [
+        DrawMode::Current,
+        DrawMode::Interpolate,
+        DrawMode::Extrapolate,
+        DrawMode::Predict,
+    ];
+
+    /// The name the command line and the tables use.
+    pub fn name(self) -> &'static str {
+        match self {
+            DrawMode::Current => "current",
+            DrawMode::Interpolate => "interpolate",
+            DrawMode::Extrapolate => "extrapolate",
+            DrawMode::Predict => "predict",
+        }
+    }
+
+    /// The draw mode called `name`.
+    pub fn parse(name: &str) -> Option<DrawMode> {
+        DrawMode::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// How far past the current tick the frame is drawn, in seconds: `alpha` is the clock's
+    /// fraction of a tick, `lead` the predicted time to the present (for [`DrawMode::Predict`]).
+    pub fn offset(self, alpha: f64, dt: f64, lead: f64) -> f64 {
+        match self {
+            DrawMode::Current => 0.0,
+            DrawMode::Interpolate => (alpha - 1.0) * dt,
+            DrawMode::Extrapolate => alpha * dt,
+            DrawMode::Predict => alpha * dt + lead,
+        }
+    }
+
+    /// The drawn position from the previous and current position and the current velocity.
+    pub fn position(
+        self,
+        prev: DVec3,
+        cur: DVec3,
+        v: DVec3,
+        alpha: f64,
+        dt: f64,
+        lead: f64,
+    ) -> DVec3 {
+        match self {
+            DrawMode::Current => cur,
+            DrawMode::Interpolate => prev + (cur - prev) * alpha,
+            DrawMode::Extrapolate | DrawMode::Predict => cur + v * self.offset(alpha, dt, lead),
+        }
+    }
+}
+
+/// The moving body a run measures, whose exact position is known at any time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Subject {
+    /// A circular orbit of radius 10 m at 10 m/s around a point mass (the bundled `orbit`).
+    Orbit,
+    /// The seed's shot: 30 m/s on the high arc under gravity, with no ground, so it flies on
+    /// for the whole run (its speed grows as it falls).
+    Shot,
+}
+
+impl Subject {
+    /// Both subjects.
+    pub const ALL: [Subject; 2] = [Subject::Orbit, Subject::Shot];
+
+    /// The name the tables use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Subject::Orbit => "orbit",
+            Subject::Shot => "shot",
+        }
+    }
+
+    /// The subject called `name`.
+    pub fn parse(name: &str) -> Option<Subject> {
+        Subject::ALL.into_iter().find(|s| s.name() == name)
+    }
+
+    /// The subject's scene at `rate` ticks per second, stepped by `integrator`.
+    pub fn scene(self, rate: f64, integrator: Integrator) -> Scene {
+        let dt = 1.0 / rate;
+        let text = match self {
+            Subject::Orbit => format!(
+                "Scene(name: \"orbit\", dt: {dt:?}, integrator: VelocityVerlet, \
+                 forces: [PointMass(center: (0.0, 0.0, 0.0), mu: 1000.0)], \
+                 bodies: [(mass: 1.0, radius: 0.3, position: (10.0, 0.0, 0.0), \
+                 launch: Velocity((0.0, 10.0, 0.0)))])"
+            ),
+            // The seed's launch, V = (7.6810, 0, 29.0000) m/s (the exact high-arc solution to
+            // (50, 0, 20) at 30 m/s from (10, 0, 2)), without the ground.
+            Subject::Shot => format!(
+                "Scene(name: \"shot\", dt: {dt:?}, integrator: VelocityVerlet, \
+                 forces: [Gravity((0.0, 0.0, -9.81))], \
+                 bodies: [(mass: 2.5, radius: 0.1, position: (10.0, 0.0, 2.0), \
+                 launch: Aim(target: (50.0, 0.0, 20.0), speed: 30.0, arc: High))])"
+            ),
+        };
+        let mut scene = scene::parse(&text, "pacing.ron", self.name())
+            .expect("the loop lab's own scene text is valid");
+        scene.integrator = integrator;
+        scene
+    }
+}
+
+/// What one run is: a subject at a tick rate under an integrator, a loop policy, a display
+/// timing, and the accumulator's starting phase.
+#[derive(Clone, Debug)]
+pub struct RunConfig {
+    /// The moving body.
+    pub subject: Subject,
+    /// Ticks per second.
+    pub rate: f64,
+    /// The integrator (the scene's own is velocity Verlet; `Exact` shows the loop alone).
+    pub integrator: Integrator,
+    /// How frame deltas become ticks.
+    pub policy: LoopPolicy,
+    /// The first frame's delta, as a fraction of a tick: where the tick grid sits against the
+    /// display's frames, which is set by when the game started (0 puts every sample on a tick
+    /// boundary, the worst case for a noisy clock; 0.5 midway).
+    pub phase: f64,
+}
+
+/// Keeps the state before the frame's last tick, as the window's renderer does.
+struct Before {
+    prev: Vec<BodyState>,
+}
+
+impl TickObserver for Before {
+    fn before_last_tick(&mut self, world: &World) {
+        self.prev.clear();
+        self.prev
+            .extend((0..world.bodies().len()).map(|i| world.bodies().state(i)));
+    }
+}
+
+/// How many recent deltas [`DrawMode::Predict`] takes the median of.
+const LEAD_WINDOW: usize = 15;
+
+/// Runs `config` under `timing` and measures every draw mode.
+pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopError> {
+    let scene = config.subject.scene(config.rate, config.integrator);
+    let world = World::new(&scene);
+    let start: Vec<BodyState> = (0..world.bodies().len())
+        .map(|i| world.bodies().state(i))
+        .collect();
+    let masses: Vec<f64> = world.bodies().masses().to_vec();
+    let forces = *world.forces();
+    let mut sim = SimLoop::new(world);
+    sim.clock.set_policy(config.policy);
+    let dt = sim.world.dt();
+    let timestep = sim.clock.timestep();
+    let first =
+        Duration::from_nanos((config.phase.clamp(0.0, 1.0) * timestep.as_nanos() as f64) as u64);
+    let mut before = Before {
+        prev: start.clone(),
+    };
+    let mut deltas: Vec<Duration> = Vec::with_capacity(LEAD_WINDOW);
+    let mut records = Vec::with_capacity(timing.presents.len());
+    let origin = timing
+        .presents
+        .first()
+        .map_or(Duration::ZERO, |p| p.sampled);
+    for (present, delta) in timing.presents.iter().zip(timing.deltas(first)) {
+        let tick_before = sim.world.tick();
+        let ticks = sim.frame(delta, &mut before)?;
+        if deltas.len() == LEAD_WINDOW {
+            deltas.remove(0);
+        }
+        deltas.push(delta);
+        let lead = median(&deltas).as_secs_f64();
+        let wall = present.sampled - origin;
+        // Game time now: the ticks run plus what the accumulator holds, less the phase the
+        // first frame was given, against the wall time since the first sample.
+        let game = sim.clock.elapsed() + sim.clock.accumulator();
+        let drift = game.as_secs_f64() - first.as_secs_f64() - wall.as_secs_f64();
+        let body = 0;
+        let cur = sim.world.bodies().state(body);
+        let v = cur.mv / masses[body];
+        let prev = before.prev.get(body).map_or(cur.p, |s| s.p);
+        let shown = present.shown.map(|d| d.saturating_sub(origin));
+        let exact = shown.and_then(|d| {
+            // The exact position at the display time, on the game's clock (tick 0 at the first
+            // sample, shifted by the phase the first frame started with).
+            let t = d.as_secs_f64() + first.as_secs_f64();
+            closed_form(&forces, start[body], masses[body], t).map(|s| s.p)
+        });
+        let drawn = DrawMode::ALL.map(|m| m.position(prev, cur.p, v, ticks.alpha, dt, lead));
+        let drawn_time =
+            DrawMode::ALL.map(|m| sim.world.tick() as f64 * dt + m.offset(ticks.alpha, dt, lead));
+        records.push(FrameRecord {
+            wall: wall.as_secs_f64(),
+            shown: shown.map(|d| d.as_secs_f64()),
+            delta: delta.as_secs_f64(),
+            steps: ticks.steps,
+            tick_before,
+            tick_after: sim.world.tick(),
+            alpha: ticks.alpha,
+            drift,
+            drawn,
+            drawn_time,
+            exact,
+        });
+    }
+    Ok(Metrics::of(&records, sim.clock.dropped().as_secs_f64()))
+}
+
+fn median(values: &[Duration]) -> Duration {
+    let mut v = values.to_vec();
+    v.sort_unstable();
+    v.get(v.len() / 2).copied().unwrap_or_default()
+}

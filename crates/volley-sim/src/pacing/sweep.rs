@@ -1,0 +1,276 @@
+//! The loop lab's sweep: every loop policy x display x tick rate x integrator x subject x phase,
+//! each run measuring every draw mode, on all cores, reported in a fixed order.
+
+use std::time::Duration;
+
+use rayon::prelude::*;
+
+use crate::clock::LoopPolicy;
+use crate::integrate::Integrator;
+use crate::sim_loop::LoopError;
+
+use super::lab::{DrawMode, RunConfig, Subject, run};
+use super::metrics::Metrics;
+use super::{DisplayModel, DisplayTiming};
+
+/// A display the sweep runs under: its timing and the refresh interval a game believes in.
+#[derive(Clone, Debug)]
+pub struct SweepDisplay {
+    /// The name the tables use.
+    pub name: String,
+    /// Its presents.
+    pub timing: DisplayTiming,
+    /// The refresh interval the snapping and quantising policies are given.
+    pub refresh: Duration,
+    /// Whether it is a capture (the default is chosen over the models only).
+    pub capture: bool,
+}
+
+impl SweepDisplay {
+    /// A bundled model, `seconds` long.
+    pub fn model(name: &str, model: &DisplayModel, seconds: f64) -> SweepDisplay {
+        SweepDisplay {
+            name: name.to_string(),
+            timing: model.timing(name, seconds),
+            refresh: model.believed_refresh(),
+            capture: false,
+        }
+    }
+
+    /// A capture: the refresh believed is its median display interval rounded to whole hertz.
+    pub fn capture(name: &str, timing: DisplayTiming) -> SweepDisplay {
+        let interval = timing
+            .median_display_interval()
+            .unwrap_or(Duration::from_nanos(16_666_667));
+        let hz = (1e9 / interval.as_nanos().max(1) as f64).round().max(1.0);
+        SweepDisplay {
+            name: name.to_string(),
+            timing,
+            refresh: Duration::from_nanos((1e9 / hz).round() as u64),
+            capture: true,
+        }
+    }
+}
+
+/// What to sweep.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The displays.
+    pub displays: Vec<SweepDisplay>,
+    /// Tick rates (Hz).
+    pub rates: Vec<f64>,
+    /// Loop policies by name ([`LoopPolicy::NAMES`]).
+    pub policies: Vec<&'static str>,
+    /// Integrators.
+    pub integrators: Vec<Integrator>,
+    /// Subjects.
+    pub subjects: Vec<Subject>,
+    /// Starting phases of the tick grid against the frames (see [`RunConfig::phase`]).
+    pub phases: Vec<f64>,
+}
+
+/// Tick rates the bundled sweep runs: 30, 60, Bevy's 64 and 120 Hz.
+pub const RATES: [f64; 4] = [30.0, 60.0, 64.0, 120.0];
+/// Phases the bundled sweep runs: on a tick boundary and midway.
+pub const PHASES: [f64; 2] = [0.0, 0.5];
+/// Seconds of display timing the bundled models produce: enough for three and a half beats of
+/// a 60 Hz loop on a 59.94 Hz display (one every 16.7 s).
+pub const SECONDS: f64 = 60.0;
+
+impl Sweep {
+    /// The bundled sweep over `displays`: every policy, [`RATES`], velocity Verlet and the
+    /// exact integrator, both subjects, [`PHASES`].
+    pub fn bundled(displays: Vec<SweepDisplay>) -> Sweep {
+        Sweep {
+            displays,
+            rates: RATES.to_vec(),
+            policies: LoopPolicy::NAMES.to_vec(),
+            integrators: vec![Integrator::VelocityVerlet, Integrator::Exact],
+            subjects: Subject::ALL.to_vec(),
+            phases: PHASES.to_vec(),
+        }
+    }
+
+    /// The bundled display models, `seconds` long.
+    pub fn bundled_displays(seconds: f64) -> Vec<SweepDisplay> {
+        DisplayModel::bundled()
+            .iter()
+            .map(|(n, m)| SweepDisplay::model(n, m, seconds))
+            .collect()
+    }
+
+    /// Runs every combination, on all cores; the rows come back in the sweep's own order
+    /// (display, rate, policy, integrator, subject, phase), whatever the scheduling.
+    pub fn run(&self) -> Result<Vec<Row>, LoopError> {
+        let mut jobs = Vec::new();
+        for (d, display) in self.displays.iter().enumerate() {
+            for &rate in &self.rates {
+                for &policy in &self.policies {
+                    for &integrator in &self.integrators {
+                        for &subject in &self.subjects {
+                            for &phase in &self.phases {
+                                jobs.push((d, display, rate, policy, integrator, subject, phase));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        jobs.par_iter()
+            .map(|&(_, display, rate, policy, integrator, subject, phase)| {
+                let loop_policy = LoopPolicy::from_name(policy, display.refresh)
+                    .expect("sweep policies are named from LoopPolicy::NAMES");
+                let config = RunConfig {
+                    subject,
+                    rate,
+                    integrator,
+                    policy: loop_policy,
+                    phase,
+                };
+                run(&config, &display.timing).map(|metrics| Row {
+                    display: display.name.clone(),
+                    capture: display.capture,
+                    rate,
+                    policy,
+                    integrator,
+                    subject,
+                    phase,
+                    metrics,
+                })
+            })
+            .collect()
+    }
+}
+
+/// One run of the sweep.
+#[derive(Clone, Debug)]
+pub struct Row {
+    /// Display name.
+    pub display: String,
+    /// Whether the display is a capture.
+    pub capture: bool,
+    /// Tick rate (Hz).
+    pub rate: f64,
+    /// Policy name.
+    pub policy: &'static str,
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Subject.
+    pub subject: Subject,
+    /// Phase.
+    pub phase: f64,
+    /// What it measured.
+    pub metrics: Metrics,
+}
+
+/// One cell of the summary: a display, rate, policy and draw mode, with the metrics of the
+/// worse phase (a game cannot choose when it starts).
+#[derive(Clone, Debug)]
+pub struct Cell<'a> {
+    /// The row of the worse phase.
+    pub row: &'a Row,
+    /// The draw mode.
+    pub mode: DrawMode,
+}
+
+impl Cell<'_> {
+    /// The draw mode's metrics in that row.
+    pub fn metrics(&self) -> &super::metrics::ModeMetrics {
+        self.row.metrics.mode(self.mode)
+    }
+}
+
+/// The summary cells of `rows` for one subject and integrator: per display, rate, policy and
+/// draw mode, the phase with the larger p99 display error.
+pub fn cells(rows: &[Row], subject: Subject, integrator: Integrator) -> Vec<Cell<'_>> {
+    let mut out: Vec<Cell<'_>> = Vec::new();
+    for row in rows
+        .iter()
+        .filter(|r| r.subject == subject && r.integrator == integrator)
+    {
+        for mode in DrawMode::ALL {
+            let same = out.iter_mut().find(|c| {
+                c.mode == mode
+                    && c.row.display == row.display
+                    && c.row.rate == row.rate
+                    && c.row.policy == row.policy
+            });
+            match same {
+                Some(c) if row.metrics.mode(mode).error.p99 > c.metrics().error.p99 => c.row = row,
+                Some(_) => {}
+                None => out.push(Cell { row, mode }),
+            }
+        }
+    }
+    out
+}
+
+/// A candidate default: a policy and a draw mode, scored over the display models at one rate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Choice {
+    /// Policy name.
+    pub policy: &'static str,
+    /// Draw mode.
+    pub mode: DrawMode,
+    /// Mean over the display models of the p99 display error (m).
+    pub p99_error: f64,
+    /// Mean over the display models of the median latency (ms).
+    pub latency: f64,
+    /// Largest drift growth over the second half of a run, over the models (ms).
+    pub drift_growth: f64,
+    /// Whether it meets the constraints: latency no more than the plain accumulator with
+    /// interpolation, drift growth within one tick.
+    pub admissible: bool,
+}
+
+/// Every policy x draw mode scored at `rate` on `subject` under `integrator`, best admissible
+/// first: the lowest mean p99 display error over the display models (captures excluded), at no
+/// more mean median latency than the plain accumulator with interpolation (today's window), and
+/// with the drift growing by at most one tick over the second half of every run.
+pub fn choose(rows: &[Row], rate: f64, subject: Subject, integrator: Integrator) -> Vec<Choice> {
+    let cells = cells(rows, subject, integrator);
+    let at = |policy: &str, mode: DrawMode| -> Vec<&Cell<'_>> {
+        cells
+            .iter()
+            .filter(|c| {
+                c.row.rate == rate && !c.row.capture && c.row.policy == policy && c.mode == mode
+            })
+            .collect()
+    };
+    let mean = |v: &[&Cell<'_>], f: &dyn Fn(&Cell<'_>) -> f64| {
+        v.iter().map(|c| f(c)).sum::<f64>() / v.len().max(1) as f64
+    };
+    let baseline = at("accumulator", DrawMode::Interpolate);
+    let base_latency = mean(&baseline, &|c| c.metrics().latency.median);
+    let tick_ms = 1e3 / rate;
+    let mut out = Vec::new();
+    for policy in LoopPolicy::NAMES {
+        for mode in DrawMode::ALL {
+            let v = at(policy, mode);
+            if v.is_empty() {
+                continue;
+            }
+            let latency = mean(&v, &|c| c.metrics().latency.median);
+            let growth = v
+                .iter()
+                .map(|c| c.row.metrics.drift_growth.abs())
+                .fold(0.0, f64::max);
+            out.push(Choice {
+                policy,
+                mode,
+                p99_error: mean(&v, &|c| c.metrics().error.p99),
+                latency,
+                drift_growth: growth,
+                // A hundredth of a millisecond of slack: latencies are display times, equal in
+                // exact arithmetic for policies that run the same ticks.
+                admissible: latency <= base_latency + 0.01 && growth <= tick_ms,
+            });
+        }
+    }
+    out.sort_by(|a, b| {
+        b.admissible
+            .cmp(&a.admissible)
+            .then(a.p99_error.total_cmp(&b.p99_error))
+    });
+    out
+}
