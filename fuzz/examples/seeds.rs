@@ -26,7 +26,7 @@ fn main() {
         std::fs::write(sub.join(name), bytes).expect("corpus file");
     };
     for (name, _) in scene::BUNDLED {
-        let mut s = scene::bundled(name).expect("bundled").expect("valid");
+        let mut s = scene::bundled(name).expect("a valid bundled scene");
         s.compare = vec![
             CompareLane::of(s.integrator),
             CompareLane {

@@ -10,8 +10,7 @@
 use std::time::Duration;
 
 use volley_sim::clock::{FrameSource, VirtualClock};
-use volley_sim::sim_loop::ObserverError;
-use volley_sim::{Command, EventKind, SimLoop, TickObserver, World, hash, scene};
+use volley_sim::{Command, EventKind, ObserverError, SimLoop, TickObserver, World, hash, scene};
 
 /// What the game does after every tick: here, report impacts, target passes and hits.
 struct Game {
@@ -37,14 +36,10 @@ impl TickObserver for Game {
 }
 
 fn main() {
-    let scene = match scene::bundled("seed") {
-        Some(Ok(scene)) => scene,
-        Some(Err(e)) => {
-            eprintln!("{e}");
-            std::process::exit(2);
-        }
-        None => unreachable!("the seed scene is bundled"),
-    };
+    let scene = scene::bundled("seed").unwrap_or_else(|e| {
+        eprintln!("{e}");
+        std::process::exit(2);
+    });
     let mut sim = SimLoop::new(World::new(&scene));
     let mut display = VirtualClock::display(144.0);
     let mut game = Game {

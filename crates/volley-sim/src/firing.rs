@@ -638,8 +638,8 @@ impl Shooter for Discrete<'_> {
 ///
 /// ```
 /// use volley_sim::{firing, scene};
-/// let scene = scene::bundled("drag").unwrap().unwrap();
-/// let mut range = firing::Range::new(&scene, scene::bundled("seed").unwrap().unwrap().targets[0]);
+/// let scene = scene::bundled("drag").unwrap();
+/// let mut range = firing::Range::new(&scene, scene::bundled("seed").unwrap().targets[0]);
 /// range.from = glam::DVec3::new(10.0, 0.0, 2.0);
 /// let shots = firing::solve(&range, firing::Mode::Speed(30.0)).unwrap();
 /// assert_eq!(shots.len(), 2);

@@ -73,7 +73,7 @@ const BLOCK: usize = 64;
 /// ```
 /// use volley_sim::{World, hash, scene};
 ///
-/// let scene = scene::bundled("seed").unwrap().unwrap();
+/// let scene = scene::bundled("seed").unwrap();
 /// let (mut a, mut b) = (World::new(&scene), World::new(&scene));
 /// b.set_threads(2);
 /// a.step_ticks(20).unwrap();

@@ -35,10 +35,11 @@
 //! use volley_sim::{scene, SimLoop, World};
 //! use volley_sim::clock::VirtualClock;
 //!
-//! let scene = scene::bundled("seed").unwrap().unwrap();
+//! let scene = scene::bundled("seed")?;
 //! let mut sim = SimLoop::new(World::new(&scene));
-//! sim.run_until(27, &mut VirtualClock::display(144.0), &mut ()).unwrap();
+//! sim.run_until(27, &mut VirtualClock::display(144.0), &mut ())?;
 //! assert_eq!(sim.world.tick(), 27);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 // The layers, bottom up (the crate doc above says what each is for). A module imports only
@@ -94,5 +95,5 @@ pub use contact::{Event, EventKind};
 pub use forces::{ForceKind, Forces};
 pub use integrate::Integrator;
 pub use scene::{Scene, SceneError};
-pub use sim_loop::{LoopError, SimLoop, TickObserver};
+pub use sim_loop::{LoopError, ObserverError, SimLoop, TickObserver};
 pub use world::{BodyId, Divergence, World};

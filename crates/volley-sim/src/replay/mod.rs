@@ -21,7 +21,7 @@
 //! use volley_sim::replay::{RecordOptions, Recorder, Recording, Replay};
 //! use volley_sim::{SimLoop, World, clock::VirtualClock, scene};
 //!
-//! let scene = scene::bundled("seed").unwrap().unwrap();
+//! let scene = scene::bundled("seed").unwrap();
 //! let mut sim = SimLoop::new(World::new(&scene));
 //! let mut recorder = Recorder::start(Vec::new(), &sim.world, RecordOptions::default()).unwrap();
 //! sim.run_until(27, &mut VirtualClock::Steady(scene.timestep), &mut recorder).unwrap();

@@ -92,18 +92,33 @@ pub const BUNDLED: &[(&str, &str)] = &[
     ("wind", include_str!("../../../../assets/scenes/wind.ron")),
 ];
 
-/// The bundled scene `name` (`seed`, `hard/stiff_spring`), parsed and validated; `None` if no
-/// bundled scene has that name.
+/// The bundled scene `name` (`seed`, `hard/stiff_spring`), parsed and validated. A name no
+/// bundled scene has is an error naming it and listing the bundled scenes (its `file` is the
+/// name, and it has no position or field).
 ///
 /// ```
-/// let scene = volley_sim::scene::bundled("seed").unwrap().unwrap();
+/// let scene = volley_sim::scene::bundled("seed").unwrap();
 /// assert_eq!(scene.name, "seed");
-/// assert!(volley_sim::scene::bundled("no_such_scene").is_none());
+/// let unknown = volley_sim::scene::bundled("no_such_scene").unwrap_err();
+/// assert!(unknown.to_string().starts_with(
+///     "no_such_scene: no bundled scene of that name (bundled: bench/drag, bench/gravity,"
+/// ));
 /// ```
-pub fn bundled(name: &str) -> Option<Result<Scene, SceneError>> {
-    let (_, text) = BUNDLED.iter().find(|(n, _)| *n == name)?;
+pub fn bundled(name: &str) -> Result<Scene, SceneError> {
+    let Some((_, text)) = BUNDLED.iter().find(|(n, _)| *n == name) else {
+        let names: Vec<&str> = BUNDLED.iter().map(|(n, _)| *n).collect();
+        return Err(SceneError {
+            file: name.to_string(),
+            position: None,
+            field: None,
+            message: format!(
+                "no bundled scene of that name (bundled: {})",
+                names.join(", ")
+            ),
+        });
+    };
     let stem = name.rsplit('/').next().unwrap_or(name);
-    Some(parse(text, &format!("assets/scenes/{name}.ron"), stem))
+    parse(text, &format!("assets/scenes/{name}.ron"), stem)
 }
 
 #[cfg(test)]
@@ -128,14 +143,20 @@ mod tests {
             }
         }
         on_disk.sort();
+        let unknown = super::bundled("no/such_scene").unwrap_err();
+        assert_eq!(
+            unknown.to_string(),
+            format!(
+                "no/such_scene: no bundled scene of that name (bundled: {})",
+                on_disk.join(", ")
+            )
+        );
         let listed: Vec<String> = super::BUNDLED.iter().map(|(n, _)| n.to_string()).collect();
         assert_eq!(listed, on_disk);
         for (name, text) in super::BUNDLED {
             let from_disk = std::fs::read_to_string(root.join(format!("{name}.ron"))).unwrap();
             assert_eq!(*text, from_disk, "{name}");
-            let scene = super::bundled(name)
-                .unwrap()
-                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let scene = super::bundled(name).unwrap_or_else(|e| panic!("{name}: {e}"));
             let loaded = super::super::load(&root.join(format!("{name}.ron"))).unwrap();
             assert_eq!(scene.name, loaded.name, "{name}");
         }

@@ -15,7 +15,7 @@ use volley_sim::{Integrator, integrate::Integrator as I};
 const HIT: f64 = 1e-9;
 
 fn bundled(name: &str) -> Scene {
-    scene::bundled(name).unwrap().unwrap()
+    scene::bundled(name).unwrap()
 }
 
 fn inline(text: &str) -> Scene {

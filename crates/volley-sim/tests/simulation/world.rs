@@ -250,7 +250,7 @@ fn restore_names_the_check_a_snapshot_fails() {
 #[test]
 fn a_scene_written_by_to_ron_parses_back_to_the_same_scene_and_steps_to_the_same_bits() {
     for (name, _) in volley_sim::scene::BUNDLED {
-        let mut scene = volley_sim::scene::bundled(name).unwrap().unwrap();
+        let mut scene = volley_sim::scene::bundled(name).unwrap();
         scene.compare = vec![
             volley_sim::scene::CompareLane::of(scene.integrator),
             volley_sim::scene::CompareLane {
