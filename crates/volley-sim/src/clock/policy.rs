@@ -185,12 +185,15 @@ pub(crate) fn snap(
     if n == 1 {
         return dur(snapped);
     }
+    // Glaiel's history starts filled with the ideal interval, so the first frames average
+    // against it instead of against nothing.
+    if state.history.is_empty() {
+        state.history = vec![r; n];
+    }
     state.history.push(snapped);
     if state.history.len() > n {
         state.history.remove(0);
     }
-    // Glaiel averages over a full window from the start (his history starts filled with the
-    // ideal interval); ours averages what it has, so the first frames are not invented.
     let count = state.history.len() as i64;
     let sum: i64 = state.history.iter().sum();
     let mut out = sum / count;

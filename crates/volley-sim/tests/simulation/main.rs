@@ -12,6 +12,7 @@ mod exact;
 mod firing;
 mod hard_cases;
 mod layers;
+mod pacing;
 mod parallel;
 mod rest_event;
 mod seed;
