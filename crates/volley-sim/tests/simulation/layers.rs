@@ -23,6 +23,7 @@ const LAYERS: &[&[&str]] = &[
         "stability",
         "firing",
         "timeline",
+        "pacing",
     ],
 ];
 
