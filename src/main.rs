@@ -33,6 +33,8 @@ enum Cmd {
     Scenes,
     /// Sweep integrators and timesteps: error against cost, as a table, CSV and plot.
     Study(cli::study::StudyArgs),
+    /// The loop lab: every loop policy and draw mode under every display, against the exact motion.
+    Pacing(cli::pacing::PacingArgs),
     /// Run a scene headless and write a recording (commands, hashes, keyframes).
     Record(cli::record::RecordArgs),
     /// Play a recording back in the window (a table with --headless), or verify it (--verify).
@@ -51,6 +53,7 @@ fn main() -> ExitCode {
         Some(Cmd::Aim(args)) => cli::aim::run(&args),
         Some(Cmd::Scenes) => cli::scenes::run(),
         Some(Cmd::Study(args)) => cli::study::run(&args),
+        Some(Cmd::Pacing(args)) => cli::pacing::run(&args),
         Some(Cmd::Record(args)) => cli::record::run(&args),
         Some(Cmd::Replay(args)) => cli::replay::run(&args),
         Some(Cmd::Window(args)) => cli::window::run(&args),

@@ -5,6 +5,7 @@ pub mod args;
 pub mod display;
 pub mod frames;
 pub mod headless;
+pub mod pacing;
 pub mod record;
 pub mod replay;
 pub mod scenes;

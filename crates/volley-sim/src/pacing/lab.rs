@@ -243,6 +243,7 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
             tick_after: sim.world.tick(),
             alpha: ticks.alpha,
             drift,
+            dropped: sim.clock.dropped().as_secs_f64(),
             drawn,
             drawn_time,
             exact,

@@ -18,7 +18,8 @@
 //!   string, and 0-to-2 swings (a 0-tick frame next to one of 2 or more) per second.
 //! - **drift**: game time (ticks plus the accumulator) minus wall time at each frame's sample
 //!   (ms): its largest magnitude, its value at the end, and its growth over the second half of
-//!   the run (bounded drift does not grow).
+//!   the run (bounded drift does not grow), and the largest magnitude of the drift plus the
+//!   time dropped so far (the drift the policy causes, apart from what the clamp drops).
 //! - **recovery**: after the longest frame (when it is over four times the median), the wall
 //!   time until 30 frames in a row run no more ticks than any frame before it did.
 //!
@@ -47,6 +48,8 @@ pub struct FrameRecord {
     pub alpha: f64,
     /// Game time minus wall time at the sample (s).
     pub drift: f64,
+    /// Time the clock has dropped so far (s): the clamp and the tick cap, on purpose.
+    pub dropped: f64,
     /// Drawn position per draw mode ([`DrawMode::ALL`] order).
     pub drawn: [DVec3; 4],
     /// Game time drawn per draw mode (s).
@@ -122,6 +125,9 @@ pub struct Metrics {
     pub drift_end: f64,
     /// Growth of the drift over the second half of the run (ms).
     pub drift_growth: f64,
+    /// Largest |game time + time dropped - wall time| (ms): the drift the policy itself
+    /// causes, apart from the time the clock's clamp and tick cap drop on purpose.
+    pub drift_kept: f64,
     /// Time the clock dropped (ms).
     pub dropped: f64,
     /// Recovery after the longest frame (ms), when there was a hitch.
@@ -164,6 +170,11 @@ impl Metrics {
             drift_worst: records.iter().map(|r| r.drift.abs()).fold(0.0, f64::max) * 1e3,
             drift_end: drift_at(records.len().saturating_sub(1)) * 1e3,
             drift_growth: (drift_at(records.len().saturating_sub(1)) - drift_at(records.len() / 2))
+                * 1e3,
+            drift_kept: records
+                .iter()
+                .map(|r| (r.drift + r.dropped).abs())
+                .fold(0.0, f64::max)
                 * 1e3,
             dropped: dropped * 1e3,
             recovery: recovery(records),
