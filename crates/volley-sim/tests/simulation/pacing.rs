@@ -119,3 +119,77 @@ fn interpolation_draws_one_tick_behind_and_extrapolation_does_not() {
     let tick = 1e3 / 60.0;
     assert!((lag(DrawMode::Interpolate) - lag(DrawMode::Extrapolate) - tick).abs() < 1e-6);
 }
+
+#[test]
+fn a_hitch_is_recovered_as_the_clock_documents() {
+    // The clock's doc: a frame's delta is clamped to 250 ms, at most 8 ticks run, and whole ticks
+    // beyond the cap are dropped, not carried. A 300 ms render on a 60 Hz display makes one
+    // delta of whole refreshes, D; the clamp drops D - 250 ms, the 250 ms left owe 15 ticks
+    // (plus an accumulator under one tick), 8 run and 7 are dropped. The next frame is back to
+    // one tick: recovery is one frame, and the drift the policy causes stays at zero.
+    let (_, model) = DisplayModel::bundled()
+        .into_iter()
+        .find(|(n, _)| *n == "60-hitch")
+        .unwrap();
+    let timing = model.timing("60-hitch", 20.0);
+    let longest = timing
+        .deltas(Duration::ZERO)
+        .into_iter()
+        .max()
+        .unwrap()
+        .as_secs_f64();
+    let m = run(&config(LoopPolicy::Accumulator, 0.5), &timing).unwrap();
+    let tick = 1e3 / 60.0;
+    let expected = (longest - 0.25) * 1e3 + 7.0 * tick;
+    assert!(
+        (m.dropped - expected).abs() < 1e-3,
+        "dropped {} ms, expected {expected} ms",
+        m.dropped
+    );
+    assert_eq!(m.histogram[3], 1, "one frame of 8 ticks: {:?}", m.histogram);
+    let recovery = m.recovery.expect("the hitch is found");
+    assert!((recovery - tick).abs() < 0.1, "recovery {recovery} ms");
+    assert!(m.drift_kept < 1e-3, "{}", m.drift_kept);
+}
+
+#[test]
+fn pacing_default_is_the_sweeps_choice() {
+    // Volley's defaults are what the loop lab's ranking puts first (docs/pacing/report.md): the
+    // bundled display models, every policy, a 60 Hz orbit under velocity Verlet, both phases.
+    use volley_sim::pacing::{DEFAULT_DRAW, DEFAULT_POLICY, Sweep, choose, sweep};
+    let mut lab = Sweep::bundled(Sweep::bundled_displays(sweep::SECONDS));
+    lab.rates = vec![60.0];
+    lab.integrators = vec![Integrator::VelocityVerlet];
+    lab.subjects = vec![Subject::Orbit];
+    let rows = lab.run().unwrap();
+    let ranking = choose(&rows, 60.0, Subject::Orbit, Integrator::VelocityVerlet);
+    let best = &ranking[0];
+    assert!(best.admissible, "{ranking:?}");
+    assert_eq!(
+        (best.policy, best.mode),
+        (DEFAULT_POLICY.name(), DEFAULT_DRAW),
+        "the sweep chose {} with {}; update pacing::DEFAULT_POLICY and DEFAULT_DRAW",
+        best.policy,
+        best.mode.name()
+    );
+    // What the default's doc claims: predict beats interpolation's p99 display error on every
+    // bundled model, at the same latency.
+    let cells = sweep::cells(&rows, Subject::Orbit, Integrator::VelocityVerlet);
+    for (name, _) in DisplayModel::bundled() {
+        let p99 = |mode| {
+            cells
+                .iter()
+                .find(|c| c.row.display == name && c.row.policy == "accumulator" && c.mode == mode)
+                .unwrap()
+                .metrics()
+                .error
+                .p99
+        };
+        assert!(
+            p99(DEFAULT_DRAW) < p99(DrawMode::Interpolate),
+            "{name}: {} vs {}",
+            p99(DEFAULT_DRAW),
+            p99(DrawMode::Interpolate)
+        );
+    }
+}
