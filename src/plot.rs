@@ -12,6 +12,8 @@
 //! Diverged runs have no error and are left out; runs at the rounding floor (an integrator exact
 //! for the scene) are drawn at the floor, marked in the legend.
 
+pub mod pacing;
+
 use plotters::coord::Shift;
 use plotters::prelude::*;
 

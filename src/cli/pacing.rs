@@ -182,7 +182,14 @@ pub fn run(args: &PacingArgs) -> Result<(), Failure> {
         .unwrap_or(Integrator::Exact);
     let subject = sweep.subjects[0];
     let command = "volley pacing --out docs/pacing";
-    let page = report::page(&rows, args.rate, subject, integrator, command);
+    let page = report::page(
+        &rows,
+        args.rate,
+        subject,
+        integrator,
+        command,
+        Some("report.svg"),
+    );
     std::fs::create_dir_all(&args.out)
         .map_err(|e| fail(EXIT_ENVIRONMENT, format!("{}: {e}", args.out.display())))?;
     let write = |name: &str, text: &str| {
@@ -192,17 +199,27 @@ pub fn run(args: &PacingArgs) -> Result<(), Failure> {
     };
     write("pacing.csv", &report::csv(&rows))?;
     write("report.md", &page)?;
+    let plot = |e: volley::plot::PlotError| fail(EXIT_ENVIRONMENT, e);
+    let svg = volley::plot::pacing::svg(&rows, args.rate, subject, integrator).map_err(plot)?;
+    write("report.svg", &svg)?;
+    let png = volley::plot::pacing::png(&rows, args.rate, subject, integrator).map_err(plot)?;
+    let path = args.out.join("report.png");
+    std::fs::write(&path, png)
+        .map_err(|e| fail(EXIT_ENVIRONMENT, format!("{}: {e}", path.display())))?;
     // The ranking, the page's first section, on stdout.
     let ranking: String = page
         .split("\n## ")
         .nth(1)
         .map(|s| format!("## {s}"))
-        .unwrap_or_default();
+        .unwrap_or_default()
+        .lines()
+        .filter(|l| !l.starts_with("!["))
+        .map(|l| format!("{l}\n"))
+        .collect();
     print!("{ranking}");
     println!(
-        "wrote {} and {} ({} runs)",
-        args.out.join("pacing.csv").display(),
-        args.out.join("report.md").display(),
+        "wrote {}/{{pacing.csv,report.md,report.svg,report.png}} ({} runs)",
+        args.out.display(),
         rows.len()
     );
     Ok(())

@@ -14,6 +14,7 @@ mod batch;
 mod determinism;
 mod divergence;
 mod headless_frames;
+mod pacing;
 mod replay_cli;
 mod simd;
 mod study;

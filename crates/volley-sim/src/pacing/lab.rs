@@ -232,8 +232,11 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
             closed_form(&forces, start[body], masses[body], t).map(|s| s.p)
         });
         let drawn = DrawMode::ALL.map(|m| m.position(prev, cur.p, v, ticks.alpha, dt, lead));
-        let drawn_time =
-            DrawMode::ALL.map(|m| sim.world.tick() as f64 * dt + m.offset(ticks.alpha, dt, lead));
+        // The game time drawn, on the wall clock (less the first frame's phase), so that
+        // display time minus it is how old what is shown is.
+        let drawn_time = DrawMode::ALL.map(|m| {
+            sim.world.tick() as f64 * dt + m.offset(ticks.alpha, dt, lead) - first.as_secs_f64()
+        });
         records.push(FrameRecord {
             wall: wall.as_secs_f64(),
             shown: shown.map(|d| d.as_secs_f64()),

@@ -52,7 +52,7 @@ pub struct FrameRecord {
     pub dropped: f64,
     /// Drawn position per draw mode ([`DrawMode::ALL`] order).
     pub drawn: [DVec3; 4],
-    /// Game time drawn per draw mode (s).
+    /// Game time drawn per draw mode, on the wall clock: less the first frame's phase (s).
     pub drawn_time: [f64; 4],
     /// The exact position at the display time; `None` if not shown.
     pub exact: Option<DVec3>,

@@ -88,13 +88,15 @@ judder p99 (mm) | latency median (ms) | drift worst (ms) | 0-2 swings/s | frames
 
 /// The generated page: the default's ranking at `rate`, the answers per display, and the
 /// summary tables, for `subject` stepped by `integrator` (and the exact integrator beside it,
-/// where the sweep ran it).
+/// where the sweep ran it). `plot`, when given, is the file name of the plot the page shows
+/// after the ranking.
 pub fn page(
     rows: &[Row],
     rate: f64,
     subject: Subject,
     integrator: Integrator,
     command: &str,
+    plot: Option<&str>,
 ) -> String {
     let mut out = String::new();
     let _ = writeln!(
@@ -136,6 +138,12 @@ pub fn page(
             "\n**Chosen: `{}` with `{}`.**\n",
             best.policy,
             best.mode.name()
+        );
+    }
+    if let Some(file) = plot {
+        let _ = writeln!(
+            out,
+            "![p99 display error by display, per policy and draw mode]({file})\n"
         );
     }
     let all = cells(rows, subject, integrator);
