@@ -140,6 +140,52 @@ pub fn page(
             best.mode.name()
         );
     }
+    let mut rates: Vec<f64> = Vec::new();
+    for r in rows {
+        if !rates.contains(&r.rate) {
+            rates.push(r.rate);
+        }
+    }
+    if rates.len() > 1 {
+        let _ = writeln!(
+            out,
+            "## Every tick rate\n\n\
+             The same ranking at each tick rate the sweep ran (Bevy's 64 Hz among them): the \
+             first admissible choice, beside the plain accumulator with interpolation.\n\n\
+             | tick rate (Hz) | chosen | mean p99 error (mm) | accumulator + interpolate (mm) | \
+             0-2 swings/s, plain accumulator, mean over models |\n|---:|---|---:|---:|---:|"
+        );
+        for &r in &rates {
+            let ranking = choose(rows, r, subject, integrator);
+            let Some(best) = ranking.iter().find(|c| c.admissible) else {
+                continue;
+            };
+            let base = ranking
+                .iter()
+                .find(|c| c.policy == "accumulator" && c.mode == DrawMode::Interpolate);
+            let swings: Vec<f64> = rows
+                .iter()
+                .filter(|x| {
+                    x.rate == r
+                        && !x.capture
+                        && x.policy == "accumulator"
+                        && x.subject == subject
+                        && x.integrator == integrator
+                })
+                .map(|x| x.metrics.swings_per_s)
+                .collect();
+            let _ = writeln!(
+                out,
+                "| {r} | `{}` + `{}` | {:.1} | {} | {:.2} |",
+                best.policy,
+                best.mode.name(),
+                best.p99_error * 1e3,
+                base.map_or("-".to_string(), |b| format!("{:.1}", b.p99_error * 1e3)),
+                swings.iter().sum::<f64>() / swings.len().max(1) as f64,
+            );
+        }
+        out.push('\n');
+    }
     if let Some(file) = plot {
         let _ = writeln!(
             out,
@@ -170,12 +216,13 @@ pub fn page(
         let _ = writeln!(
             out,
             "### {display}\n\nLowest p99 display error: `{}` with `{}`, {:.1} mm (latency {:.1} ms, \
-             drift at most {:.1} ms){}.\n",
+             drift at most {:.1} ms, {:.1} ms dropped by the clock){}.\n",
             best.row.policy,
             best.mode.name(),
             best.metrics().error.p99 * 1e3,
             best.latency,
             best.drift_worst,
+            best.row.metrics.dropped,
             baseline.map_or(String::new(), |b| format!(
                 "; today's accumulator with interpolation: {:.1} mm, latency {:.1} ms",
                 b.metrics().error.p99 * 1e3,
