@@ -1,0 +1,201 @@
+//! The scene file's raw schema, as serde reads and writes it: the force terms, launches and
+//! bodies as written, before validation, and [`Scene::to_ron`], which writes a scene back in it.
+
+use glam::DVec3;
+use serde::Deserialize;
+
+use super::*;
+
+impl Scene {
+    /// The scene as a scene file that parses back to it: every force term, surface, target
+    /// and body (launches as velocities), the launcher, the volley, the seed, the guard and the
+    /// compare lanes. What the window's "Save setup" writes; `parse` of it gives a scene that
+    /// steps to the same bits.
+    pub fn to_ron(&self) -> String {
+        let f = &self.forces;
+        let mut forces = Vec::new();
+        if let Some(g) = f.gravity {
+            forces.push(ForceTerm::Gravity(g));
+        }
+        if let Some(c) = f.constant {
+            forces.push(ForceTerm::ConstantForce(c));
+        }
+        if let Some(b) = f.linear_drag {
+            forces.push(ForceTerm::LinearDrag(b));
+        }
+        if let Some(c) = f.quadratic_drag {
+            forces.push(ForceTerm::QuadraticDrag(c));
+        }
+        if let Some(sp) = f.spring {
+            forces.push(ForceTerm::Spring {
+                anchor: sp.anchor,
+                stiffness: sp.stiffness,
+                rest_length: sp.rest_length,
+                damping: sp.damping,
+            });
+        }
+        if let Some(pm) = f.point_mass {
+            forces.push(ForceTerm::PointMass {
+                center: pm.center,
+                mu: pm.mu,
+            });
+        }
+        let raw = RawScene {
+            name: Some(self.name.clone()),
+            description: self.description.clone(),
+            dt: self.dt(),
+            start_time: self.start_time,
+            duration: self.duration,
+            integrator: self.integrator,
+            substeps: self.substeps,
+            tolerance: (self.tolerance != DEFAULT_TOLERANCE).then_some(self.tolerance),
+            forces,
+            ground: self.ground,
+            walls: self.walls.clone(),
+            targets: self.targets.clone(),
+            detection: self.detection,
+            bodies: self
+                .bodies
+                .iter()
+                .map(|b| RawBody {
+                    mass: b.mass,
+                    radius: b.radius,
+                    position: b.position,
+                    launch: Launch::Velocity(b.velocity),
+                })
+                .collect(),
+            launcher: Some(self.launcher),
+            volley: self.volley,
+            seed: self.seed,
+            guard: self.guard,
+            compare: self.compare.clone(),
+        };
+        let config = ron::ser::PrettyConfig::new()
+            .struct_names(true)
+            .extensions(ron::extensions::Extensions::IMPLICIT_SOME);
+        let body = ron::ser::to_string_pretty(&raw, config)
+            .unwrap_or_else(|e| format!("// could not write the scene: {e}\n"));
+        format!(
+            "// Written by Volley's \"Save setup\": the scene `{}` as set up in the window (its\n\
+             // launcher, targets, integrator, step and compare lanes), bodies as launch\n\
+             // velocities. `volley window FILE` and `volley headless FILE` open it.\n{body}\n",
+            // Escaped: a name with a line break would end the comment and break the file.
+            self.name.escape_debug()
+        )
+    }
+}
+
+/// One force term as written in a scene file.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
+pub(super) enum ForceTerm {
+    Gravity(DVec3),
+    ConstantForce(DVec3),
+    LinearDrag(f64),
+    QuadraticDrag(f64),
+    Spring {
+        anchor: DVec3,
+        stiffness: f64,
+        #[serde(default)]
+        rest_length: f64,
+        #[serde(default)]
+        damping: f64,
+    },
+    PointMass {
+        center: DVec3,
+        mu: f64,
+    },
+}
+
+impl ForceTerm {
+    pub(super) fn kind(&self) -> ForceKind {
+        match self {
+            ForceTerm::Gravity(_) => ForceKind::Gravity,
+            ForceTerm::ConstantForce(_) => ForceKind::ConstantForce,
+            ForceTerm::LinearDrag(_) => ForceKind::LinearDrag,
+            ForceTerm::QuadraticDrag(_) => ForceKind::QuadraticDrag,
+            ForceTerm::Spring { .. } => ForceKind::Spring,
+            ForceTerm::PointMass { .. } => ForceKind::PointMass,
+        }
+    }
+}
+
+/// A launch as written in a scene file.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
+pub(super) enum Launch {
+    Velocity(DVec3),
+    Angles {
+        speed: f64,
+        elevation_deg: f64,
+        #[serde(default)]
+        azimuth_deg: f64,
+    },
+    Aim {
+        target: DVec3,
+        speed: f64,
+        arc: Arc,
+    },
+}
+
+#[derive(Debug, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawBody {
+    pub(super) mass: f64,
+    #[serde(default = "tenth")]
+    pub(super) radius: f64,
+    pub(super) position: DVec3,
+    #[serde(default = "at_rest")]
+    pub(super) launch: Launch,
+}
+
+pub(super) fn at_rest() -> Launch {
+    Launch::Velocity(DVec3::ZERO)
+}
+
+#[derive(Debug, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Scene")]
+pub(super) struct RawScene {
+    #[serde(default)]
+    pub(super) name: Option<String>,
+    #[serde(default)]
+    pub(super) description: String,
+    pub(super) dt: f64,
+    #[serde(default)]
+    pub(super) start_time: f64,
+    #[serde(default = "ten")]
+    pub(super) duration: f64,
+    pub(super) integrator: Integrator,
+    #[serde(default = "one_u32")]
+    pub(super) substeps: u32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) tolerance: Option<f64>,
+    #[serde(default)]
+    pub(super) forces: Vec<ForceTerm>,
+    #[serde(default)]
+    pub(super) ground: Option<Ground>,
+    #[serde(default)]
+    pub(super) walls: Vec<Wall>,
+    #[serde(default)]
+    pub(super) targets: Vec<Target>,
+    #[serde(default)]
+    pub(super) detection: Detection,
+    #[serde(default)]
+    pub(super) bodies: Vec<RawBody>,
+    #[serde(default)]
+    pub(super) launcher: Option<Launcher>,
+    #[serde(default)]
+    pub(super) volley: Option<Volley>,
+    #[serde(default)]
+    pub(super) seed: u64,
+    #[serde(default)]
+    pub(super) guard: Guard,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(super) compare: Vec<CompareLane>,
+}
+
+pub(super) fn one_u32() -> u32 {
+    1
+}
+
+pub(super) fn ten() -> f64 {
+    10.0
+}

@@ -1,0 +1,343 @@
+//! Validation: a raw scene to a [`Scene`], every value checked and every error naming its
+//! field.
+
+use std::time::Duration;
+
+use glam::DVec3;
+
+use super::raw::*;
+use super::*;
+
+/// At most [`MAX_TICK_WORK`] body-steps a tick in the scene's own lane and in each compare lane.
+pub(super) fn check_tick_work(raw: &RawScene, bodies: u64) -> Result<(), InvalidValue> {
+    let lanes = raw.compare.iter().enumerate();
+    let asked = std::iter::once(("substeps".to_string(), raw.substeps)).chain(
+        lanes.filter_map(|(i, l)| l.substeps.map(|n| (format!("compare[{i}].substeps"), n))),
+    );
+    for (field, substeps) in asked {
+        if bodies.max(1) * u64::from(substeps) > MAX_TICK_WORK {
+            return Err(invalid(field, ValueProblem::TickWork { bodies, substeps }));
+        }
+    }
+    Ok(())
+}
+
+pub(super) fn invalid(field: impl Into<String>, problem: ValueProblem) -> InvalidValue {
+    InvalidValue {
+        field: field.into(),
+        problem,
+    }
+}
+
+pub(super) fn finite(field: &str, x: f64) -> Result<f64, InvalidValue> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(invalid(field, ValueProblem::NotFinite(x)))
+    }
+}
+
+pub(super) fn positive(field: &str, x: f64) -> Result<f64, InvalidValue> {
+    if x.is_finite() && x > 0.0 {
+        Ok(x)
+    } else {
+        Err(invalid(field, ValueProblem::NotPositive(x)))
+    }
+}
+
+pub(super) fn non_negative(field: &str, x: f64) -> Result<f64, InvalidValue> {
+    if x.is_finite() && x >= 0.0 {
+        Ok(x)
+    } else {
+        Err(invalid(field, ValueProblem::NotNonNegative(x)))
+    }
+}
+
+pub(super) fn unit_interval(field: &str, x: f64) -> Result<f64, InvalidValue> {
+    if (0.0..=1.0).contains(&x) {
+        Ok(x)
+    } else {
+        Err(invalid(field, ValueProblem::NotUnitInterval(x)))
+    }
+}
+
+pub(super) fn finite3(field: &str, v: DVec3) -> Result<DVec3, InvalidValue> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(invalid(field, ValueProblem::NotFiniteVector(v)))
+    }
+}
+
+/// Converts a step in seconds to whole nanoseconds, the clock's unit; errors name `field`.
+pub fn timestep_from_secs(field: &str, dt: f64) -> Result<Duration, InvalidValue> {
+    let dt = positive(field, dt)?;
+    let nanos = (dt * 1e9).round();
+    if !(1.0..=1e12).contains(&nanos) {
+        return Err(invalid(field, ValueProblem::Step(dt)));
+    }
+    Ok(Duration::from_nanos(nanos as u64))
+}
+
+pub(super) fn validate(
+    raw: RawScene,
+    text: &str,
+    default_name: &str,
+) -> Result<Scene, InvalidValue> {
+    let timestep = timestep_from_secs("dt", raw.dt)?;
+    let start_time = finite("start_time", raw.start_time)?;
+    let duration = non_negative("duration", raw.duration)?;
+    let integrator = raw.integrator;
+    if !(1..=MAX_SUBSTEPS).contains(&raw.substeps) {
+        return Err(invalid("substeps", ValueProblem::Substeps(raw.substeps)));
+    }
+    let tolerance = match raw.tolerance {
+        Some(x) => check_tolerance("tolerance", x)?,
+        None => DEFAULT_TOLERANCE,
+    };
+    let forces = validate_forces(&raw.forces)?;
+    check_integrator(integrator, &forces)
+        .map_err(|e| invalid("integrator", ValueProblem::Integrator(e)))?;
+    if raw.compare.len() > MAX_COMPARE_LANES {
+        return Err(invalid(
+            "compare",
+            ValueProblem::TooManyLanes(raw.compare.len()),
+        ));
+    }
+    // A volley too large on its own is said of its count, below.
+    let total = raw.bodies.len() as u64 + raw.volley.map_or(0, |v| u64::from(v.count));
+    if total > MAX_BODIES as u64 && raw.volley.is_none_or(|v| v.count <= MAX_VOLLEY) {
+        let field = if raw.volley.is_some() {
+            "volley.count"
+        } else {
+            "bodies"
+        };
+        return Err(invalid(field, ValueProblem::TooManyBodies(total)));
+    }
+    for (i, lane) in raw.compare.iter().enumerate() {
+        check_integrator(lane.integrator, &forces).map_err(|e| {
+            invalid(
+                format!("compare[{i}].integrator"),
+                ValueProblem::Integrator(e),
+            )
+        })?;
+        if let Some(dt) = lane.dt {
+            timestep_from_secs(&format!("compare[{i}].dt"), dt)?;
+        }
+        if let Some(n) = lane.substeps
+            && !(1..=MAX_SUBSTEPS).contains(&n)
+        {
+            return Err(invalid(
+                format!("compare[{i}].substeps"),
+                ValueProblem::Substeps(n),
+            ));
+        }
+    }
+    check_tick_work(&raw, total)?;
+    let ground = raw
+        .ground
+        .map(|g| -> Result<Ground, InvalidValue> {
+            finite("ground.height", g.height)?;
+            unit_interval("ground.restitution", g.restitution)?;
+            Ok(g)
+        })
+        .transpose()?;
+    let walls = raw
+        .walls
+        .iter()
+        .enumerate()
+        .map(|(i, w)| validate_wall(i, w))
+        .collect::<Result<Vec<_>, _>>()?;
+    for (i, t) in raw.targets.iter().enumerate() {
+        finite3(&format!("targets[{i}].center"), t.center)?;
+        finite3(&format!("targets[{i}].velocity"), t.velocity)?;
+        positive(&format!("targets[{i}].radius"), t.radius)?;
+    }
+    let bodies = raw
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(i, b)| validate_body(i, b, &forces))
+        .collect::<Result<Vec<_>, _>>()?;
+    let launcher = match raw.launcher {
+        Some(l) => validate_launcher(l)?,
+        None => default_launcher(bodies.first()),
+    };
+    if let Some(v) = raw.volley {
+        if v.count > MAX_VOLLEY {
+            return Err(invalid("volley.count", ValueProblem::VolleyCount(v.count)));
+        }
+        non_negative("volley.speed_spread", v.speed_spread)?;
+        non_negative("volley.angle_spread_deg", v.angle_spread_deg)?;
+    }
+    if !(raw.guard.energy_factor.is_finite() && raw.guard.energy_factor > 1.0) {
+        return Err(invalid(
+            "guard.energy_factor",
+            ValueProblem::EnergyFactor(raw.guard.energy_factor),
+        ));
+    }
+    Ok(Scene {
+        name: raw.name.unwrap_or_else(|| default_name.to_string()),
+        description: raw.description,
+        source: text.to_string(),
+        timestep,
+        start_time,
+        duration,
+        integrator,
+        substeps: raw.substeps,
+        forces,
+        ground,
+        walls,
+        targets: raw.targets,
+        compare: raw.compare,
+        tolerance,
+        detection: raw.detection,
+        bodies,
+        launcher,
+        volley: raw.volley,
+        seed: raw.seed,
+        guard: raw.guard,
+    })
+}
+
+/// Refuses `exact` for forces without a closed form, naming the force.
+pub fn check_integrator(integrator: Integrator, forces: &Forces) -> Result<(), IntegratorError> {
+    match (integrator, forces.without_closed_form()) {
+        (Integrator::Exact, Some(kind)) => Err(IntegratorError::NoClosedForm(kind)),
+        _ => Ok(()),
+    }
+}
+
+pub(super) fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, InvalidValue> {
+    let mut forces = Forces::default();
+    for (i, term) in terms.iter().enumerate() {
+        let field = format!("forces[{i}]");
+        if forces.has(term.kind()) {
+            return Err(invalid(field, ValueProblem::DuplicateForce(term.kind())));
+        }
+        match *term {
+            ForceTerm::Gravity(g) => forces.gravity = Some(finite3(&field, g)?),
+            ForceTerm::ConstantForce(f) => forces.constant = Some(finite3(&field, f)?),
+            ForceTerm::LinearDrag(b) => forces.linear_drag = Some(non_negative(&field, b)?),
+            ForceTerm::QuadraticDrag(c) => forces.quadratic_drag = Some(non_negative(&field, c)?),
+            ForceTerm::Spring {
+                anchor,
+                stiffness,
+                rest_length,
+                damping,
+            } => {
+                forces.spring = Some(Spring {
+                    anchor: finite3(&format!("{field}.anchor"), anchor)?,
+                    stiffness: non_negative(&format!("{field}.stiffness"), stiffness)?,
+                    rest_length: non_negative(&format!("{field}.rest_length"), rest_length)?,
+                    damping: non_negative(&format!("{field}.damping"), damping)?,
+                });
+            }
+            ForceTerm::PointMass { center, mu } => {
+                forces.point_mass = Some(PointMass {
+                    center: finite3(&format!("{field}.center"), center)?,
+                    mu: positive(&format!("{field}.mu"), mu)?,
+                });
+            }
+        }
+    }
+    Ok(forces)
+}
+
+pub(super) fn validate_wall(i: usize, w: &Wall) -> Result<Wall, InvalidValue> {
+    finite3(&format!("walls[{i}].point"), w.point)?;
+    let n = finite3(&format!("walls[{i}].normal"), w.normal)?;
+    // A normal already of unit length to rounding is kept as written: normalising it again
+    // could move its last bit, and a saved setup (which writes the normal used) would then step
+    // to other bits than the scene it was saved from.
+    let unit = if (n.length_squared() - 1.0).abs() <= 8.0 * f64::EPSILON {
+        n
+    } else {
+        n.try_normalize()
+            .ok_or_else(|| invalid(format!("walls[{i}].normal"), ValueProblem::ZeroVector))?
+    };
+    positive(&format!("walls[{i}].thickness"), w.thickness)?;
+    unit_interval(&format!("walls[{i}].restitution"), w.restitution)?;
+    Ok(Wall { normal: unit, ..*w })
+}
+
+pub(super) fn validate_body(
+    i: usize,
+    b: &RawBody,
+    forces: &Forces,
+) -> Result<BodySpec, InvalidValue> {
+    let at = |f: &str| format!("bodies[{i}].{f}");
+    let mass = positive(&at("mass"), b.mass)?;
+    let radius = non_negative(&at("radius"), b.radius)?;
+    let position = finite3(&at("position"), b.position)?;
+    let velocity = match b.launch {
+        Launch::Velocity(v) => finite3(&at("launch"), v)?,
+        Launch::Angles {
+            speed,
+            elevation_deg,
+            azimuth_deg,
+        } => {
+            non_negative(&at("launch.speed"), speed)?;
+            finite(&at("launch.elevation_deg"), elevation_deg)?;
+            finite(&at("launch.azimuth_deg"), azimuth_deg)?;
+            angles_to_velocity(speed, elevation_deg, azimuth_deg)
+        }
+        Launch::Aim { target, speed, arc } => {
+            finite3(&at("launch.target"), target)?;
+            positive(&at("launch.speed"), speed)?;
+            let g = forces.gravity.unwrap_or(DVec3::ZERO);
+            if g.x != 0.0 || g.y != 0.0 || g.z >= 0.0 {
+                return Err(invalid(at("launch"), ValueProblem::AimNeedsGravity));
+            }
+            let [high, low] = aim(position, target, speed, -g.z)
+                .map_err(|e| invalid(at("launch"), ValueProblem::CannotAim(e)))?;
+            match arc {
+                Arc::High => high.velocity,
+                Arc::Low => low.velocity,
+            }
+        }
+    };
+    Ok(BodySpec {
+        mass,
+        radius,
+        position,
+        velocity,
+    })
+}
+
+pub(super) fn validate_launcher(l: Launcher) -> Result<Launcher, InvalidValue> {
+    finite3("launcher.position", l.position)?;
+    non_negative("launcher.speed", l.speed)?;
+    finite("launcher.elevation_deg", l.elevation_deg)?;
+    finite("launcher.azimuth_deg", l.azimuth_deg)?;
+    positive("launcher.mass", l.mass)?;
+    non_negative("launcher.radius", l.radius)?;
+    Ok(l)
+}
+
+/// The launcher implied by the first body (its position, mass, size and launch), or a 20 m/s,
+/// 45 degree launcher at the origin for a scene without bodies.
+pub(super) fn default_launcher(first: Option<&BodySpec>) -> Launcher {
+    match first {
+        Some(b) => {
+            let v = b.velocity;
+            let horizontal = (v.x * v.x + v.y * v.y).sqrt();
+            Launcher {
+                position: b.position,
+                speed: v.length(),
+                elevation_deg: libm::atan2(v.z, horizontal).to_degrees(),
+                azimuth_deg: libm::atan2(v.y, v.x).to_degrees(),
+                mass: b.mass,
+                radius: b.radius,
+            }
+        }
+        None => Launcher {
+            position: DVec3::ZERO,
+            speed: 20.0,
+            elevation_deg: 45.0,
+            azimuth_deg: 0.0,
+            mass: 1.0,
+            radius: 0.1,
+        },
+    }
+}
