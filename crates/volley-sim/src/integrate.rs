@@ -15,6 +15,11 @@ use serde::{Deserialize, Serialize};
 pub use crate::body::{BodyState, Mass};
 use crate::forces::{DragField, ForceModel, Forces};
 
+mod dopri;
+mod schemes;
+
+use schemes::*;
+
 /// How a scene's bodies are advanced by one step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Integrator {
@@ -227,31 +232,33 @@ impl Integrator {
     }
 
     /// Force evaluations per body per step under `forces` (for Dormand-Prince, a step taken in
-    /// one internal step: the fewest it can cost).
+    /// one internal step: the fewest it can cost; velocity Verlet's carried force counted once a
+    /// step; the closed form 0): what "equal cost" compares. Read from the scheme the step
+    /// dispatches to (`Scheme::EVALS`), the one source of truth.
     pub fn evals_per_step(self, forces: &Forces) -> u64 {
-        match self {
-            Integrator::ExplicitEuler
-            | Integrator::SemiImplicitEuler
-            | Integrator::ImplicitEuler => 1,
-            Integrator::VelocityVerlet => 1 + u64::from(forces.velocity_dependent()),
-            Integrator::Midpoint => 2,
-            Integrator::Rk4 => 4,
-            Integrator::Exact => 0,
-            Integrator::ForestRuth => 3,
-            Integrator::Dopri5 => 7,
-            Integrator::ImplicitMidpoint => 1 + u64::from(forces.has_nonlinear()),
+        struct Evals;
+        impl SchemeVisitor for Evals {
+            type Out = u64;
+            fn visit<S: Scheme>(self, _: S) -> u64 {
+                S::EVALS
+            }
         }
+        visit(self, forces, DEFAULT_TOLERANCE, Evals)
     }
 
     /// Whether the integrator carries the end-of-step position force to the next step under
     /// `forces` (velocity Verlet with position forces only, and Forest-Ruth always): then the
-    /// carried force is part of the state a keyframe holds.
+    /// carried force is part of the state a keyframe holds. Read from the scheme the step
+    /// dispatches to (`Scheme::CARRIES_FORCE`), the one source of truth.
     pub fn carries_force(self, forces: &Forces) -> bool {
-        match self {
-            Integrator::VelocityVerlet => !forces.velocity_dependent(),
-            Integrator::ForestRuth => true,
-            _ => false,
+        struct Carries;
+        impl SchemeVisitor for Carries {
+            type Out = bool;
+            fn visit<S: Scheme>(self, _: S) -> bool {
+                S::CARRIES_FORCE
+            }
         }
+        visit(self, forces, DEFAULT_TOLERANCE, Carries)
     }
 }
 
@@ -338,17 +345,10 @@ fn visit_model<F: ForceModel, V: SchemeVisitor>(
     }
 }
 
-/// Force evaluations one step of `integrator` costs per body on `forces` (velocity Verlet's
-/// carried force counted once a step; the closed form 0): what "equal cost" compares.
+/// Force evaluations one step of `integrator` costs per body on `forces`: the same as
+/// [`Integrator::evals_per_step`], kept for callers that name the free function.
 pub fn evals_per_step(integrator: Integrator, forces: &Forces) -> u64 {
-    struct Evals;
-    impl SchemeVisitor for Evals {
-        type Out = u64;
-        fn visit<S: Scheme>(self, _: S) -> u64 {
-            S::EVALS
-        }
-    }
-    visit(integrator, forces, DEFAULT_TOLERANCE, Evals)
+    integrator.evals_per_step(forces)
 }
 
 /// Advances one body by `h` with any integrator: the reference path for tests and studies.
@@ -393,497 +393,6 @@ pub fn step_body_at(
     }
     let w = Mass::new(m);
     visit(integrator, forces, tolerance, One { s, w, h })
-}
-
-struct ExplicitEuler<'a, F>(&'a F);
-struct SemiImplicitEuler<'a, F>(&'a F);
-struct Verlet<'a, F>(&'a F);
-struct VerletPredicted<'a, F>(&'a F);
-struct Midpoint<'a, F>(&'a F);
-struct Rk4<'a, F>(&'a F);
-struct ImplicitEuler<'a, F>(&'a F);
-struct Exact<'a, F>(&'a F);
-struct ForestRuth<'a, F>(&'a F);
-struct Dopri5<'a, F>(&'a F, f64);
-struct ImplicitMidpoint<'a, F>(&'a F);
-struct ImplicitMidpointSplit<'a, F>(&'a F);
-
-impl<F: ForceModel> Scheme for ExplicitEuler<'_, F> {
-    const EVALS: u64 = 1;
-    #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
-        let v = s.mv * w.inv;
-        let f = self.0.force(s.p, v, w.m);
-        let next = BodyState {
-            p: s.p + h * v,
-            mv: s.mv + h * f,
-        };
-        (next, DVec3::ZERO)
-    }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
-        DVec3::ZERO
-    }
-}
-
-impl<F: ForceModel> Scheme for SemiImplicitEuler<'_, F> {
-    const EVALS: u64 = 1;
-    #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
-        let f = self.0.force(s.p, s.mv * w.inv, w.m);
-        let mv = s.mv + h * f;
-        let next = BodyState {
-            p: s.p + h * (mv * w.inv),
-            mv,
-        };
-        (next, DVec3::ZERO)
-    }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
-        DVec3::ZERO
-    }
-}
-
-impl<F: ForceModel> Scheme for Verlet<'_, F> {
-    const EVALS: u64 = 1;
-    const CARRIES_FORCE: bool = true;
-    #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, f0: DVec3) -> (BodyState, DVec3) {
-        let half = 0.5 * h;
-        let mv_half = s.mv + half * f0;
-        let v_half = mv_half * w.inv;
-        let p = s.p + h * v_half;
-        // Position-only model: the velocity argument is not read.
-        let f1 = self.0.force(p, v_half, w.m);
-        let next = BodyState {
-            p,
-            mv: mv_half + half * f1,
-        };
-        (next, f1)
-    }
-    fn start_carry(&self, s: BodyState, w: Mass) -> DVec3 {
-        self.0.force(s.p, s.mv * w.inv, w.m)
-    }
-}
-
-impl<F: ForceModel> Scheme for VerletPredicted<'_, F> {
-    const EVALS: u64 = 2;
-    #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
-        let half = 0.5 * h;
-        let f0 = self.0.force(s.p, s.mv * w.inv, w.m);
-        let mv_half = s.mv + half * f0;
-        let p = s.p + h * (mv_half * w.inv);
-        // Euler-predicted end velocity: its O(h^2) error enters the kick times h/2, so the local
-        // error stays O(h^3) and the method keeps order 2 with drag.
-        let v_pred = (mv_half + half * f0) * w.inv;
-        let f1 = self.0.force(p, v_pred, w.m);
-        let next = BodyState {
-            p,
-            mv: mv_half + half * f1,
-        };
-        (next, DVec3::ZERO)
-    }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
-        DVec3::ZERO
-    }
-}
-
-impl<F: ForceModel> Scheme for Midpoint<'_, F> {
-    const EVALS: u64 = 2;
-    #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
-        let half = 0.5 * h;
-        let v = s.mv * w.inv;
-        let f = self.0.force(s.p, v, w.m);
-        let p_mid = s.p + half * v;
-        let mv_mid = s.mv + half * f;
-        let v_mid = mv_mid * w.inv;
-        let f_mid = self.0.force(p_mid, v_mid, w.m);
-        let next = BodyState {
-            p: s.p + h * v_mid,
-            mv: s.mv + h * f_mid,
-        };
-        (next, DVec3::ZERO)
-    }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
-        DVec3::ZERO
-    }
-}
-
-impl<F: ForceModel> Scheme for Rk4<'_, F> {
-    const EVALS: u64 = 4;
-    #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
-        let half = 0.5 * h;
-        let f = self.0;
-        let k1p = s.mv * w.inv;
-        let k1m = f.force(s.p, k1p, w.m);
-        let k2p = (s.mv + half * k1m) * w.inv;
-        let k2m = f.force(s.p + half * k1p, k2p, w.m);
-        let k3p = (s.mv + half * k2m) * w.inv;
-        let k3m = f.force(s.p + half * k2p, k3p, w.m);
-        let k4p = (s.mv + h * k3m) * w.inv;
-        let k4m = f.force(s.p + h * k3p, k4p, w.m);
-        let sixth = h / 6.0;
-        let next = BodyState {
-            p: s.p + sixth * (k1p + 2.0 * k2p + 2.0 * k3p + k4p),
-            mv: s.mv + sixth * (k1m + 2.0 * k2m + 2.0 * k3m + k4m),
-        };
-        (next, DVec3::ZERO)
-    }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
-        DVec3::ZERO
-    }
-}
-
-impl<F: ForceModel> Scheme for ImplicitEuler<'_, F> {
-    const EVALS: u64 = 1;
-    #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
-        let lin = self.0.linear_part(w.m);
-        let v = s.mv * w.inv;
-        let a_nl = self.0.nonlinear_force(s.p, v, w.m) * w.inv;
-        let rhs = v + h * (lin.a0 + a_nl - lin.w2 * (s.p - lin.anchor));
-        let v1 = rhs / (1.0 + h * lin.kd + h * h * lin.w2);
-        let next = BodyState {
-            p: s.p + h * v1,
-            mv: w.m * v1,
-        };
-        (next, DVec3::ZERO)
-    }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
-        DVec3::ZERO
-    }
-}
-
-impl<F: ForceModel> Scheme for Exact<'_, F> {
-    const EVALS: u64 = 0;
-    #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
-        // The fast-path models have no point mass and no spring: these tests fold away for
-        // them, leaving the drag flow, the same operations as before springs were covered.
-        if let Some(pm) = self.0.lone_point_mass() {
-            // A collision of a radial orbit with the centre: NaN stops the run at this tick.
-            let (p, mv) = crate::exact::kepler_flow_momentum(s.p, s.mv, w.m, &pm, h)
-                .unwrap_or((DVec3::NAN, DVec3::NAN));
-            return (BodyState { p, mv }, DVec3::ZERO);
-        }
-        let lin = self.0.linear_part(w.m);
-        if lin.w2 != 0.0 {
-            let (p, mv) = crate::exact::linear_flow_momentum(s.p, s.mv, w.m, &lin, h);
-            return (BodyState { p, mv }, DVec3::ZERO);
-        }
-        // Always inlined (see it), so the fast-path models' constant `kd` of 0 folds its test
-        // into the vectorised loop.
-        let (p, v) = crate::exact::linear_drag_flow(s.p, s.mv * w.inv, lin.a0, lin.kd, h);
-        (BodyState { p, mv: w.m * v }, DVec3::ZERO)
-    }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
-        DVec3::ZERO
-    }
-}
-
-/// Velocity terms' coefficients for one body: `a_vel(V) = -(kd + q |V|) V`.
-#[derive(Clone, Copy)]
-struct VelocityTerms {
-    kd: f64,
-    q: f64,
-}
-
-impl VelocityTerms {
-    #[inline(always)]
-    fn of<F: ForceModel>(f: &F, w: Mass) -> VelocityTerms {
-        // Zero written as a constant where the model has no quadratic drag (`0 * inv` is not
-        // a constant to the compiler), so the models without it compile to the plain
-        // Störmer-Verlet substeps, without the quadratic solve's square roots and divisions.
-        let c = f.quadratic_drag();
-        VelocityTerms {
-            kd: f.linear_part(w.m).kd,
-            q: if c == 0.0 { 0.0 } else { c * w.inv },
-        }
-    }
-
-    /// Solves `v (1 + h/2 (kd + q |v|)) = rhs` for `v`. With `q = 0` it is `rhs / a`,
-    /// `a = 1 + h kd / 2` (`rhs` exactly with no velocity terms). Otherwise `v` is parallel to
-    /// `rhs`, scaled by `s / |rhs|` for the root `s` of `(h q / 2) s^2 + a s - |rhs| = 0` that
-    /// tends to `|rhs| / a` as `h q -> 0`: `2 / (a + sqrt(a^2 + 2 h q |rhs|))`, written so that
-    /// nothing cancels, or for `a <= 0` (a backward substep past the drag's stability limit)
-    /// `(sqrt(..) - a) / (h q |rhs|)`. A negative discriminant (a backward substep with strong
-    /// quadratic drag) has no real root: the state turns NaN and the world reports the
-    /// divergence.
-    #[inline(always)]
-    fn solve_half_kick(self, rhs: DVec3, h: f64) -> DVec3 {
-        if self.q == 0.0 {
-            // No velocity terms: `a` is exactly 1 and `rhs / 1` is `rhs`, without the divisions.
-            if self.kd == 0.0 {
-                return rhs;
-            }
-            return rhs / (1.0 + 0.5 * h * self.kd);
-        }
-        let a = 1.0 + 0.5 * h * self.kd;
-        let r = rhs.length();
-        if r == 0.0 {
-            return rhs;
-        }
-        let hq = h * self.q;
-        let root = (a * a + 2.0 * hq * r).sqrt();
-        let scale = if a > 0.0 {
-            2.0 / (a + root)
-        } else {
-            (root - a) / (hq * r)
-        };
-        rhs * scale
-    }
-
-    /// `-(kd + q |v|) v`; without quadratic drag `-kd v`, the same bits for a finite `v`
-    /// (`kd + 0 = kd`) without the square root.
-    #[inline(always)]
-    fn accel(self, v: DVec3) -> DVec3 {
-        if self.q == 0.0 {
-            return -self.kd * v;
-        }
-        -(self.kd + self.q * v.length()) * v
-    }
-}
-
-/// One generalised Störmer-Verlet step of length `h` from `s` with position force `fp0` at
-/// `s.p`: the new state and the position force at its position.
-#[inline(always)]
-fn generalized_verlet<F: ForceModel>(
-    f: &F,
-    vt: VelocityTerms,
-    s: BodyState,
-    w: Mass,
-    h: f64,
-    fp0: DVec3,
-) -> (BodyState, DVec3) {
-    let half = 0.5 * h;
-    let v_half = vt.solve_half_kick((s.mv + half * fp0) * w.inv, h);
-    let p = s.p + h * v_half;
-    let fp1 = f.force(p, DVec3::ZERO, w.m);
-    let mv = w.m * v_half + half * (fp1 + w.m * vt.accel(v_half));
-    (BodyState { p, mv }, fp1)
-}
-
-impl<F: ForceModel> Scheme for ForestRuth<'_, F> {
-    const EVALS: u64 = 3;
-    const CARRIES_FORCE: bool = true;
-    #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, fp0: DVec3) -> (BodyState, DVec3) {
-        let vt = VelocityTerms::of(self.0, w);
-        let (c1, c2) = (FOREST_RUTH_C1, FOREST_RUTH_C2);
-        let (s, fp) = generalized_verlet(self.0, vt, s, w, c1 * h, fp0);
-        let (s, fp) = generalized_verlet(self.0, vt, s, w, c2 * h, fp);
-        generalized_verlet(self.0, vt, s, w, c1 * h, fp)
-    }
-    fn start_carry(&self, s: BodyState, w: Mass) -> DVec3 {
-        self.0.force(s.p, DVec3::ZERO, w.m)
-    }
-}
-
-/// The Dormand-Prince 5(4) tableau: stage coefficients `a`, the 5th-order weights (the last
-/// row of `a`, so the 7th stage is the next step's first) and the error weights `b5 - b4`.
-mod dp {
-    pub const A21: f64 = 1.0 / 5.0;
-    pub const A31: f64 = 3.0 / 40.0;
-    pub const A32: f64 = 9.0 / 40.0;
-    pub const A41: f64 = 44.0 / 45.0;
-    pub const A42: f64 = -56.0 / 15.0;
-    pub const A43: f64 = 32.0 / 9.0;
-    pub const A51: f64 = 19372.0 / 6561.0;
-    pub const A52: f64 = -25360.0 / 2187.0;
-    pub const A53: f64 = 64448.0 / 6561.0;
-    pub const A54: f64 = -212.0 / 729.0;
-    pub const A61: f64 = 9017.0 / 3168.0;
-    pub const A62: f64 = -355.0 / 33.0;
-    pub const A63: f64 = 46732.0 / 5247.0;
-    pub const A64: f64 = 49.0 / 176.0;
-    pub const A65: f64 = -5103.0 / 18656.0;
-    pub const B1: f64 = 35.0 / 384.0;
-    pub const B3: f64 = 500.0 / 1113.0;
-    pub const B4: f64 = 125.0 / 192.0;
-    pub const B5: f64 = -2187.0 / 6784.0;
-    pub const B6: f64 = 11.0 / 84.0;
-    pub const E1: f64 = 71.0 / 57600.0;
-    pub const E3: f64 = -71.0 / 16695.0;
-    pub const E4: f64 = 71.0 / 1920.0;
-    pub const E5: f64 = -17253.0 / 339200.0;
-    pub const E6: f64 = 22.0 / 525.0;
-    pub const E7: f64 = -1.0 / 40.0;
-}
-
-/// A state derivative on y = (p, mV): (V, F).
-#[derive(Clone, Copy)]
-struct Slope {
-    p: DVec3,
-    m: DVec3,
-}
-
-impl<F: ForceModel> Dopri5<'_, F> {
-    #[inline(always)]
-    fn slope(&self, p: DVec3, mv: DVec3, w: Mass) -> Slope {
-        let v = mv * w.inv;
-        Slope {
-            p: v,
-            m: self.0.force(p, v, w.m),
-        }
-    }
-}
-
-/// Largest of `|e_i| / (1 + max(|y0_i|, |y1_i|))` over the components of `e`.
-#[inline(always)]
-fn scaled_error(e: DVec3, y0: DVec3, y1: DVec3) -> f64 {
-    let scale = DVec3::ONE + y0.abs().max(y1.abs());
-    (e.abs() / scale).max_element()
-}
-
-impl<F: ForceModel> Scheme for Dopri5<'_, F> {
-    const EVALS: u64 = 7;
-    const ADAPTIVE: bool = true;
-    #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, c: DVec3) -> (BodyState, DVec3) {
-        let (s, c, _) = self.step_counted(s, w, h, c);
-        (s, c)
-    }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
-        DVec3::ZERO
-    }
-    #[inline(never)]
-    fn step_counted(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3, u64) {
-        use dp::*;
-        let tol = self.1;
-        let failed = (
-            BodyState {
-                p: DVec3::NAN,
-                mv: DVec3::NAN,
-            },
-            DVec3::ZERO,
-        );
-        let (mut y, mut t) = (s, 0.0);
-        let mut k1 = self.slope(y.p, y.mv, w);
-        let mut evals = 1u64;
-        let mut trial = h;
-        for _ in 0..DOPRI_MAX_ATTEMPTS {
-            let remaining = h - t;
-            let last = trial >= remaining;
-            let d = if last { remaining } else { trial };
-            let at = |c: [f64; 5], k: [&Slope; 5]| {
-                let mut p = y.p;
-                let mut m = y.mv;
-                for (ci, ki) in c.iter().zip(k) {
-                    if *ci != 0.0 {
-                        p += (d * ci) * ki.p;
-                        m += (d * ci) * ki.m;
-                    }
-                }
-                (p, m)
-            };
-            let z = &k1;
-            let (p, m) = at([A21, 0.0, 0.0, 0.0, 0.0], [&k1, z, z, z, z]);
-            let k2 = self.slope(p, m, w);
-            let (p, m) = at([A31, A32, 0.0, 0.0, 0.0], [&k1, &k2, z, z, z]);
-            let k3 = self.slope(p, m, w);
-            let (p, m) = at([A41, A42, A43, 0.0, 0.0], [&k1, &k2, &k3, z, z]);
-            let k4 = self.slope(p, m, w);
-            let (p, m) = at([A51, A52, A53, A54, 0.0], [&k1, &k2, &k3, &k4, z]);
-            let k5 = self.slope(p, m, w);
-            let (p, m) = at([A61, A62, A63, A64, A65], [&k1, &k2, &k3, &k4, &k5]);
-            let k6 = self.slope(p, m, w);
-            let next_p = y.p + d * (B1 * k1.p + B3 * k3.p + B4 * k4.p + B5 * k5.p + B6 * k6.p);
-            let next_m = y.mv + d * (B1 * k1.m + B3 * k3.m + B4 * k4.m + B5 * k5.m + B6 * k6.m);
-            let k7 = self.slope(next_p, next_m, w);
-            evals += 6;
-            let err = |k: fn(&Slope) -> DVec3| {
-                d * (E1 * k(&k1)
-                    + E3 * k(&k3)
-                    + E4 * k(&k4)
-                    + E5 * k(&k5)
-                    + E6 * k(&k6)
-                    + E7 * k(&k7))
-            };
-            let norm = scaled_error(err(|k| k.p), y.p, next_p).max(scaled_error(
-                err(|k| k.m),
-                y.mv,
-                next_m,
-            )) / tol;
-            if !norm.is_finite() {
-                return (failed.0, failed.1, evals);
-            }
-            let accepted = norm <= 1.0;
-            if accepted {
-                y = BodyState {
-                    p: next_p,
-                    mv: next_m,
-                };
-                if last {
-                    return (y, DVec3::ZERO, evals);
-                }
-                t += d;
-                k1 = k7;
-            }
-            let grow = if norm == 0.0 {
-                5.0
-            } else {
-                (0.9 / norm.sqrt().sqrt()).clamp(0.2, 5.0)
-            };
-            trial = d * if accepted { grow } else { grow.min(1.0) };
-        }
-        (failed.0, failed.1, evals)
-    }
-}
-
-/// The linear terms' midpoint-rule velocity update: `V'` from `V`, the position offset
-/// `d = p - anchor` and the explicit acceleration `a_ex` (the constant part plus any other
-/// terms).
-#[inline(always)]
-fn midpoint_linear(
-    lin: &crate::forces::LinearPart,
-    v: DVec3,
-    d: DVec3,
-    a_ex: DVec3,
-    h: f64,
-) -> DVec3 {
-    let damp = 0.5 * h * lin.kd + 0.25 * h * h * lin.w2;
-    (v * (1.0 - damp) + h * (a_ex - lin.w2 * d)) / (1.0 + damp)
-}
-
-impl<F: ForceModel> Scheme for ImplicitMidpoint<'_, F> {
-    const EVALS: u64 = 1;
-    #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
-        let lin = self.0.linear_part(w.m);
-        let v = s.mv * w.inv;
-        let v1 = midpoint_linear(&lin, v, s.p - lin.anchor, lin.a0, h);
-        let next = BodyState {
-            p: s.p + (0.5 * h) * (v + v1),
-            mv: w.m * v1,
-        };
-        (next, DVec3::ZERO)
-    }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
-        DVec3::ZERO
-    }
-}
-
-impl<F: ForceModel> Scheme for ImplicitMidpointSplit<'_, F> {
-    const EVALS: u64 = 2;
-    #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
-        let f = self.0;
-        let lin = f.linear_part(w.m);
-        let v = s.mv * w.inv;
-        let half = 0.5 * h;
-        let (pm, vm) = (s.p + half * v, v + half * (f.force(s.p, v, w.m) * w.inv));
-        let a_ex = lin.a0 + f.nonlinear_force(pm, vm, w.m) * w.inv;
-        let v1 = midpoint_linear(&lin, v, s.p - lin.anchor, a_ex, h);
-        let next = BodyState {
-            p: s.p + half * (v + v1),
-            mv: w.m * v1,
-        };
-        (next, DVec3::ZERO)
-    }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
-        DVec3::ZERO
-    }
 }
 
 #[cfg(test)]

@@ -132,12 +132,7 @@ fn a_hitch_is_recovered_as_the_clock_documents() {
         .find(|(n, _)| *n == "60-hitch")
         .unwrap();
     let timing = model.timing("60-hitch", 20.0);
-    let longest = timing
-        .deltas(Duration::ZERO)
-        .into_iter()
-        .max()
-        .unwrap()
-        .as_secs_f64();
+    let longest = timing.deltas(Duration::ZERO).max().unwrap().as_secs_f64();
     let m = run(&config(LoopPolicy::Accumulator, 0.5), &timing).unwrap();
     let tick = 1e3 / 60.0;
     let expected = (longest - 0.25) * 1e3 + 7.0 * tick;
