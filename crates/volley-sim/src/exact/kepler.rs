@@ -1,6 +1,11 @@
 //! Kepler's problem: a body around a fixed point mass, `x'' = -mu x / |x|^3`, solved exactly in
 //! universal variables, one formulation for elliptic, parabolic and hyperbolic orbits.
 //!
+//! One file past the crate's ~600 lines on purpose: it is one algorithm (the universal-variable
+//! solve, its two ways to the state and its refusals) whose derivation below is a fifth of it,
+//! and whose pieces share the private orbit state; split, each part would be read only beside
+//! the others.
+//!
 //! ## Universal variables
 //!
 //! From a base point at distance `rb` with `sigma_b = x . v / sqrt(mu)` there, with

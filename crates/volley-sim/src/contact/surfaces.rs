@@ -1,0 +1,174 @@
+//! What a scene declares for contacts and what they report: the ground, walls and targets,
+//! the detection mode, and the events a step emits.
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use super::*;
+
+/// An infinite ground plane `z = height`, solid below.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ground {
+    /// Height of the plane (m).
+    #[serde(default)]
+    pub height: f64,
+    /// Coefficient of restitution, 0 (stops) to 1 (perfectly elastic).
+    pub restitution: f64,
+}
+
+/// A thin infinite wall: the slab of `thickness` centred on `point` across `normal`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Wall {
+    /// A point on the wall's mid-plane (m).
+    pub point: DVec3,
+    /// Normal of the wall (normalised when the scene is loaded).
+    pub normal: DVec3,
+    /// Thickness (m).
+    pub thickness: f64,
+    /// Coefficient of restitution, 0 to 1.
+    #[serde(default = "elastic")]
+    pub restitution: f64,
+}
+
+pub(super) fn elastic() -> f64 {
+    1.0
+}
+
+/// A target sphere. Targets do not deflect bodies; they report passes and hits.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Target {
+    /// Centre (m) at tick 0.
+    pub center: DVec3,
+    /// Radius (m); a body hits when its centre comes within this plus its own radius.
+    pub radius: f64,
+    /// Constant velocity (m/s); zero (the default) for a target that stays put.
+    #[serde(default)]
+    pub velocity: DVec3,
+}
+
+impl Target {
+    /// The centre `since_start` seconds after tick 0: `center + velocity * since_start`. A
+    /// target at rest returns `center` itself (no `+ 0`, which would turn a `-0.0` into `0.0`).
+    #[inline]
+    pub fn center_at(&self, since_start: f64) -> DVec3 {
+        if self.velocity == DVec3::ZERO {
+            self.center
+        } else {
+            self.center + since_start * self.velocity
+        }
+    }
+}
+
+/// When contacts are detected.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Detection {
+    /// Time of impact solved inside the step; nothing is missed, impacts are on time.
+    #[default]
+    Swept,
+    /// Overlap tested at the end of each step only: late, penetrating, and thin walls are missed
+    /// when a body moves further than their thickness in one step.
+    Discrete,
+}
+
+/// Everything a body can touch in a scene.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Contacts {
+    /// Ground plane.
+    pub ground: Option<Ground>,
+    /// Walls.
+    pub walls: Vec<Wall>,
+    /// Targets.
+    pub targets: Vec<Target>,
+    /// Detection mode.
+    pub detection: Detection,
+}
+
+impl Contacts {
+    /// Whether the scene declares no contacts (then the step skips this stage entirely).
+    pub fn is_empty(&self) -> bool {
+        self.ground.is_none() && self.walls.is_empty() && self.targets.is_empty()
+    }
+}
+
+/// Which surface an impact was on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Surface {
+    /// The ground plane.
+    Ground,
+    /// The wall with this index in the scene.
+    Wall(u32),
+}
+
+/// Something that happened to a body during a tick.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Event {
+    /// The tick whose step produced the event (the state after it is tick `tick`).
+    pub tick: u64,
+    /// Sim time of the event (s), inside the step for swept detection.
+    pub time: f64,
+    /// The body.
+    pub body: BodyId,
+    /// What happened.
+    pub kind: EventKind,
+}
+
+/// The kinds of [`Event`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum EventKind {
+    /// The body hit a surface and bounced.
+    Impact {
+        /// Which surface.
+        surface: Surface,
+        /// Normal speed into the surface at impact (m/s).
+        normal_speed: f64,
+        /// Penetration when detected (m): 0 for swept detection.
+        depth: f64,
+    },
+    /// The body came to rest on a surface (its bounce fell below one step of gravity's speed).
+    Rest {
+        /// Which surface.
+        surface: Surface,
+    },
+    /// The body touched a target: its centre came within the two radii of the target's. The
+    /// event's time is the moment of first contact.
+    Hit {
+        /// Index of the target in the scene.
+        target: u32,
+    },
+    /// The body passed a target: the event's time is its closest approach (swept detection).
+    Approach {
+        /// Index of the target in the scene.
+        target: u32,
+        /// Closest distance between the body's and the target's centres (m): 0 is dead centre.
+        distance: f64,
+        /// Whether that is within the two radii (a [`EventKind::Hit`] was reported on entry).
+        hit: bool,
+    },
+}
+
+/// Where and when a step runs, as the contact stage needs it.
+pub(crate) struct StepFrame<'a> {
+    pub contacts: &'a Contacts,
+    /// Tick number the step produces.
+    pub tick: u64,
+    /// Sim time at the start of the step (s).
+    pub t0: f64,
+    /// The same instant as time since tick 0 (s): `tick * H + k * h` for substep `k`, where
+    /// moving targets are.
+    pub since_start: f64,
+    /// Step length (s).
+    pub h: f64,
+    /// Normal speed below which a bounce ends at rest (m/s): gravity's speed gain in one step.
+    pub rest_speed: f64,
+}
+
+/// The body being resolved.
+#[derive(Clone, Copy)]
+pub(crate) struct Particle {
+    pub id: BodyId,
+    pub w: Mass,
+    pub r: f64,
+}
