@@ -10,6 +10,7 @@
 use std::time::Duration;
 
 use glam::DVec3;
+use serde::{Deserialize, Serialize};
 
 use crate::body::BodyState;
 use crate::clock::LoopPolicy;
@@ -97,7 +98,7 @@ impl DrawMode {
 }
 
 /// The moving body a run measures, whose exact position is known at any time.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub enum Subject {
     /// A circular orbit of radius 10 m at 10 m/s around a point mass (the bundled `orbit`).
     Orbit,

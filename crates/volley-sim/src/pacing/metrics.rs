@@ -26,6 +26,7 @@
 //! Percentiles are nearest-rank: the p-th percentile of n values is the ceil(p n)-th smallest.
 
 use glam::DVec3;
+use serde::{Deserialize, Serialize};
 
 use super::lab::DrawMode;
 
@@ -59,7 +60,7 @@ pub struct FrameRecord {
 }
 
 /// Median, 99th percentile and largest value of a sample.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Stats {
     /// Median.
     pub median: f64,
@@ -87,7 +88,7 @@ impl Stats {
 }
 
 /// One draw mode's measurements.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ModeMetrics {
     /// Display error (m).
     pub error: Stats,
@@ -105,7 +106,7 @@ pub struct ModeMetrics {
 pub const CADENCE_CHARS: usize = 120;
 
 /// Everything one run measured.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Metrics {
     /// Frames presented.
     pub frames: usize,

@@ -16,12 +16,14 @@
 //! - [`metrics`]: display error, animation error, judder, latency, cadence, drift.
 //! - [`sweep`]: every policy x display x tick rate, and the default chosen from it.
 //! - [`report`]: the sweep as CSV and as the generated page.
+//! - [`shard`]: a sweep split over machines, and the merge of its parts.
 
 pub mod capture;
 pub mod display;
 pub mod lab;
 pub mod metrics;
 pub mod report;
+pub mod shard;
 pub mod sweep;
 
 pub use capture::{CaptureError, read_capture};

@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use crate::clock::LoopPolicy;
 use crate::integrate::Integrator;
 use crate::sim_loop::LoopError;
+use crate::study::shard::Shard;
 
 use super::lab::{DrawMode, RunConfig, Subject, run};
 use super::metrics::Metrics;
@@ -99,51 +100,102 @@ impl Sweep {
             .collect()
     }
 
-    /// Runs every combination, on all cores; the rows come back in the sweep's own order
-    /// (display, rate, policy, integrator, subject, phase), whatever the scheduling.
-    pub fn run(&self) -> Result<Vec<Row>, LoopError> {
+    /// Every combination, in the sweep's own order (display, rate, policy, integrator,
+    /// subject, phase, the last varying fastest): job `k` of this list is the one shards
+    /// number.
+    pub fn jobs(&self) -> Vec<Job> {
         let mut jobs = Vec::new();
-        for (d, display) in self.displays.iter().enumerate() {
+        for d in 0..self.displays.len() {
             for &rate in &self.rates {
                 for &policy in &self.policies {
                     for &integrator in &self.integrators {
                         for &subject in &self.subjects {
                             for &phase in &self.phases {
-                                jobs.push((d, display, rate, policy, integrator, subject, phase));
+                                jobs.push(Job {
+                                    display: d,
+                                    rate,
+                                    policy,
+                                    integrator,
+                                    subject,
+                                    phase,
+                                });
                             }
                         }
                     }
                 }
             }
         }
+        jobs
+    }
+
+    /// Runs every combination, on all cores; the rows come back in the sweep's own order
+    /// ([`Sweep::jobs`]), whatever the scheduling.
+    pub fn run(&self) -> Result<Vec<Row>, LoopError> {
+        Ok(self
+            .run_shard(Shard::WHOLE)?
+            .into_iter()
+            .map(|(_, row)| row)
+            .collect())
+    }
+
+    /// Runs the jobs `shard` owns (job `k` when `k mod count == index`), on all cores: each
+    /// with its job number, in order.
+    pub fn run_shard(&self, shard: Shard) -> Result<Vec<(usize, Row)>, LoopError> {
+        let jobs: Vec<(usize, Job)> = self
+            .jobs()
+            .into_iter()
+            .enumerate()
+            .filter(|(k, _)| shard.owns(*k))
+            .collect();
         jobs.par_iter()
-            .map(|&(_, display, rate, policy, integrator, subject, phase)| {
-                let loop_policy = LoopPolicy::from_name(policy, display.refresh)
-                    .expect("sweep policies are named from LoopPolicy::NAMES");
-                let config = RunConfig {
-                    subject,
-                    rate,
-                    integrator,
-                    policy: loop_policy,
-                    phase,
-                };
-                run(&config, &display.timing).map(|metrics| Row {
-                    display: display.name.clone(),
-                    capture: display.capture,
-                    rate,
-                    policy,
-                    integrator,
-                    subject,
-                    phase,
-                    metrics,
-                })
-            })
+            .map(|(k, job)| self.run_job(job).map(|row| (*k, row)))
             .collect()
+    }
+
+    fn run_job(&self, job: &Job) -> Result<Row, LoopError> {
+        let display = &self.displays[job.display];
+        let policy = LoopPolicy::from_name(job.policy, display.refresh)
+            .expect("sweep policies are named from LoopPolicy::NAMES");
+        let config = RunConfig {
+            subject: job.subject,
+            rate: job.rate,
+            integrator: job.integrator,
+            policy,
+            phase: job.phase,
+        };
+        run(&config, &display.timing).map(|metrics| Row {
+            display: display.name.clone(),
+            capture: display.capture,
+            rate: job.rate,
+            policy: job.policy,
+            integrator: job.integrator,
+            subject: job.subject,
+            phase: job.phase,
+            metrics,
+        })
     }
 }
 
+/// One combination of the sweep: which display (by index), rate, policy, integrator, subject
+/// and phase.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Job {
+    /// Index into [`Sweep::displays`].
+    pub display: usize,
+    /// Tick rate (Hz).
+    pub rate: f64,
+    /// Policy name.
+    pub policy: &'static str,
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Subject.
+    pub subject: Subject,
+    /// Phase.
+    pub phase: f64,
+}
+
 /// One run of the sweep.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Row {
     /// Display name.
     pub display: String,

@@ -188,3 +188,59 @@ fn pacing_default_is_the_sweeps_choice() {
         );
     }
 }
+
+/// A small sweep: two displays, two rates, every policy, one integrator and subject, both
+/// phases (40 jobs).
+fn small_sweep() -> volley_sim::pacing::Sweep {
+    use volley_sim::pacing::{Sweep, SweepDisplay};
+    let displays = ["59.94", "144"]
+        .iter()
+        .map(|n| SweepDisplay::model(n, &DisplayModel::named(n).unwrap(), 5.0))
+        .collect();
+    let mut sweep = Sweep::bundled(displays);
+    sweep.rates = vec![60.0, 64.0];
+    sweep.integrators = vec![Integrator::VelocityVerlet];
+    sweep.subjects = vec![Subject::Orbit];
+    sweep
+}
+
+#[test]
+fn a_sweep_in_shards_merges_to_the_one_machine_rows() {
+    use volley_sim::pacing::shard::{PacingShard, merge};
+    use volley_sim::study::Shard;
+    let sweep = small_sweep();
+    let whole = sweep.run().unwrap();
+    assert_eq!(whole.len(), 2 * 2 * 5 * 2);
+    // Three shards of 40 jobs, through their files' text (every float back to the bit).
+    let parts: Vec<(String, PacingShard)> = (0..3)
+        .map(|index| {
+            let part = PacingShard::run(&sweep, Shard { index, count: 3 }).unwrap();
+            let name = format!("p{index}.json");
+            let back = PacingShard::from_json(&part.to_json(), &name).unwrap();
+            assert_eq!(back, part);
+            (name, back)
+        })
+        .collect();
+    // In any order.
+    let shuffled = vec![parts[2].clone(), parts[0].clone(), parts[1].clone()];
+    assert_eq!(merge(&shuffled).unwrap(), whole);
+    let err = merge(&[parts[0].clone(), parts[2].clone()]).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "missing shard 1/3: the files given hold shards 0, 2 of 3 (numbered from 0)"
+    );
+    let err = merge(&[parts[0].clone(), parts[0].clone()]).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "p0.json: shard 0/3 given twice (also p0.json)"
+    );
+    // A row moved to another job's number is refused by the reader, naming the job.
+    let mut forged = parts[1].1.clone();
+    forged.rows[0].1.policy = "snap".into();
+    let err = PacingShard::from_json(&forged.to_json(), "forged.json").unwrap_err();
+    assert!(
+        err.to_string()
+            .starts_with("forged.json: rows: job 1 should be 59.94 at 60 Hz"),
+        "{err}"
+    );
+}
