@@ -281,6 +281,22 @@ pub fn shard(data: &[u8]) {
     }
 }
 
+/// **Loop-lab shard files** (`volley pacing --merge`): a file that reads writes back to the
+/// same text and reads again, and merging it alone never panics (it is refused unless it is
+/// the whole sweep, and then gives one row per job).
+pub fn pacing_shard(data: &[u8]) {
+    use volley_sim::pacing::shard::{PacingShard, merge as merge_pacing};
+    let Some(text) = text(data) else { return };
+    if let Ok(part) = PacingShard::from_json(text, "fuzz.json") {
+        let back = PacingShard::from_json(&part.to_json(), "back.json")
+            .unwrap_or_else(|e| panic!("a pacing shard written back does not read: {e}"));
+        assert_eq!(back, part, "a pacing shard reads back to another");
+        if let Ok(rows) = merge_pacing(&[("fuzz.json".to_string(), part.clone())]) {
+            assert_eq!(rows.len(), part.sweep.jobs(), "one row per job");
+        }
+    }
+}
+
 /// **PresentMon captures** (the loop lab's `--display FILE.csv`): read for the application with
 /// the most rows, and for `dwm.exe` by name; a capture that reads holds at most
 /// [`volley_sim::pacing::capture::MAX_CAPTURE_PRESENTS`] presents, its `sampled` times never

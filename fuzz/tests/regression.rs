@@ -111,6 +111,14 @@ fn shard_regressions() {
 }
 
 #[test]
+fn pacing_shard_regressions() {
+    reader_sorts("pacing_shard", |text, name| {
+        volley_sim::pacing::shard::PacingShard::from_json(text, name).is_ok()
+    });
+    replay("pacing_shard", volley_fuzz::pacing_shard);
+}
+
+#[test]
 fn capture_regressions() {
     // The shipped capture trimmed to its first rows, and a malformed one.
     assert!(replay("capture", volley_fuzz::capture) >= 2);

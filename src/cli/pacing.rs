@@ -8,7 +8,8 @@ use clap::Args;
 
 use volley::Integrator;
 use volley::clock::LoopPolicy;
-use volley::pacing::sweep::{self, Sweep, SweepDisplay};
+use volley::pacing::shard::{self, PacingShard};
+use volley::pacing::sweep::{self, Row, Sweep, SweepDisplay};
 use volley::pacing::{DisplayModel, Subject, read_capture, report};
 use volley::scene;
 
@@ -53,9 +54,19 @@ pub struct PacingArgs {
     /// The tick rate the ranking and the page summarise (default 60).
     #[arg(long, default_value_t = 60.0)]
     pub rate: f64,
-    /// Output folder for pacing.csv and report.md (default: pacing).
+    /// Output folder for pacing.csv, report.md and the plot (default: pacing).
     #[arg(long, default_value = "pacing")]
     pub out: PathBuf,
+    /// Run only shard I of N (numbered from 0: jobs k with k mod N = I of the sweep's order)
+    /// and write its rows, pacing.shard-I-of-N.json, to the output folder.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// Merge the shard files of one sweep into its CSV, page and plot.
+    #[arg(long, value_name = "FILE", num_args = 1.., conflicts_with_all = [
+        "displays", "captures", "application", "no_capture", "rates", "policies",
+        "integrators", "subjects", "seconds", "shard",
+    ])]
+    pub merge: Option<Vec<PathBuf>>,
 }
 
 fn displays(args: &PacingArgs) -> Result<Vec<SweepDisplay>, Failure> {
@@ -132,6 +143,55 @@ fn names<T>(
 
 /// Runs `volley pacing`.
 pub fn run(args: &PacingArgs) -> Result<(), Failure> {
+    if let Some(files) = &args.merge {
+        return write(args, &merge(files)?);
+    }
+    let sweep = sweep(args)?;
+    if let Some(text) = &args.shard {
+        let part = super::study::shard(text)?;
+        let result = PacingShard::run(&sweep, part)
+            .map_err(|e| fail(super::EXIT_DIVERGED, format!("pacing: {e}")))?;
+        create(&args.out)?;
+        let path = args.out.join(format!(
+            "pacing.shard-{}-of-{}.json",
+            part.index, part.count
+        ));
+        std::fs::write(&path, result.to_json())
+            .map_err(|e| fail(EXIT_ENVIRONMENT, format!("{}: {e}", path.display())))?;
+        println!(
+            "wrote {} ({} of {} runs)",
+            path.display(),
+            result.rows.len(),
+            result.sweep.jobs()
+        );
+        return Ok(());
+    }
+    let rows = sweep
+        .run()
+        .map_err(|e| fail(super::EXIT_DIVERGED, format!("pacing: {e}")))?;
+    write(args, &rows)
+}
+
+/// `--merge`: every shard file read, merged into the sweep's rows.
+fn merge(files: &[PathBuf]) -> Result<Vec<Row>, Failure> {
+    let mut parts = Vec::with_capacity(files.len());
+    for path in files {
+        let label = path.display().to_string();
+        let text = scene::read_text(path)
+            .map_err(|e| fail(EXIT_INPUT, format!("{label}: cannot read: {e}")))?;
+        let part = PacingShard::from_json(&text, &label).map_err(|e| fail(EXIT_INPUT, e))?;
+        parts.push((label, part));
+    }
+    shard::merge(&parts).map_err(|e| fail(EXIT_INPUT, e))
+}
+
+fn create(dir: &Path) -> Result<(), Failure> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| fail(EXIT_ENVIRONMENT, format!("{}: {e}", dir.display())))
+}
+
+/// The sweep the flags ask for.
+fn sweep(args: &PacingArgs) -> Result<Sweep, Failure> {
     let mut sweep = Sweep::bundled(displays(args)?);
     if let Some(rates) = &args.rates {
         if rates.is_empty()
@@ -171,16 +231,18 @@ pub fn run(args: &PacingArgs) -> Result<(), Failure> {
             )
         })
     })?;
-    let rows = sweep
-        .run()
-        .map_err(|e| fail(super::EXIT_DIVERGED, format!("pacing: {e}")))?;
-    let integrator = sweep
-        .integrators
+    Ok(sweep)
+}
+
+/// The CSV, the page and the plot of `rows`, and the ranking on stdout.
+fn write(args: &PacingArgs, rows: &[Row]) -> Result<(), Failure> {
+    let rows = rows.to_vec();
+    let integrator = rows
         .iter()
-        .copied()
+        .map(|r| r.integrator)
         .find(|i| *i != Integrator::Exact)
         .unwrap_or(Integrator::Exact);
-    let subject = sweep.subjects[0];
+    let subject = rows.first().map_or(Subject::Orbit, |r| r.subject);
     let command = "volley pacing --out docs/pacing";
     let page = report::page(
         &rows,
@@ -190,8 +252,7 @@ pub fn run(args: &PacingArgs) -> Result<(), Failure> {
         command,
         Some("report.svg"),
     );
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| fail(EXIT_ENVIRONMENT, format!("{}: {e}", args.out.display())))?;
+    create(&args.out)?;
     let write = |name: &str, text: &str| {
         let path = args.out.join(name);
         std::fs::write(&path, text)

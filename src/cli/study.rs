@@ -62,8 +62,8 @@ pub struct StudyArgs {
     pub merge: Option<Vec<PathBuf>>,
 }
 
-/// Parses `I/N` with `0 <= I < N`.
-fn shard(text: &str) -> Result<Shard, Failure> {
+/// Parses `I/N` with `0 <= I < N` (`--shard` of `volley study` and `volley pacing`).
+pub fn shard(text: &str) -> Result<Shard, Failure> {
     let bad = || {
         fail(
             EXIT_INPUT,

@@ -136,3 +136,51 @@ fn bad_flags_and_captures_are_one_line_each() {
         "nothing is written on bad input"
     );
 }
+
+#[test]
+fn a_sweep_run_in_shards_merges_to_the_same_files() {
+    let dir = scratch_dir("pacing-shards");
+    let d = dir.to_str().unwrap();
+    let flags = [
+        "--displays",
+        "59.94",
+        "--rates",
+        "60",
+        "--integrators",
+        "velocity-verlet",
+        "--seconds",
+        "5",
+    ];
+    let run = |extra: &[&str]| {
+        let mut all = vec!["pacing"];
+        all.extend_from_slice(&flags);
+        all.extend_from_slice(extra);
+        volley_stdout(&all, &[])
+    };
+    let whole = dir.join("whole");
+    run(&["--out", whole.to_str().unwrap()]);
+    for i in 0..2 {
+        let out = run(&["--shard", &format!("{i}/2"), "--out", d]);
+        assert!(out.starts_with("wrote "), "{out}");
+    }
+    let shard = |i: usize| format!("{d}/pacing.shard-{i}-of-2.json");
+    let merged = dir.join("merged");
+    volley_stdout(
+        &["pacing", "--merge", &shard(1), &shard(0), "--out", merged.to_str().unwrap()],
+        &[],
+    );
+    for file in ["pacing.csv", "report.md", "report.svg"] {
+        assert_eq!(
+            std::fs::read(merged.join(file)).unwrap(),
+            std::fs::read(whole.join(file)).unwrap(),
+            "{file}"
+        );
+    }
+    let o = volley_output(&["pacing", "--merge", &shard(0), "--out", d], &[]);
+    assert_eq!(o.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(
+        only_line(&stderr, "error:"),
+        "error: missing shard 1/2: the files given hold shards 0 of 2 (numbered from 0)"
+    );
+}
