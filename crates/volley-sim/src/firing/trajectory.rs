@@ -17,11 +17,17 @@ impl SchemeVisitor for At {
     type Out = BodyState;
     fn visit<S: Scheme>(self, scheme: S) -> BodyState {
         let (s, carry) = fly(&scheme, self.s0, self.w, self.hs, self.steps, |_, _| true);
-        if self.tau > 0.0 {
-            scheme.step(s, self.w, self.tau, carry).0
-        } else {
-            s
-        }
+        partial(&scheme, s, carry, self.w, self.tau)
+    }
+}
+
+/// One step of `tau` from `s` and its carried force, or `s` itself when `tau` is 0: the
+/// remainder after the whole steps, shared by [`At`] and [`Partial`].
+fn partial<S: Scheme>(scheme: &S, s: BodyState, carry: DVec3, w: Mass, tau: f64) -> BodyState {
+    if tau > 0.0 {
+        scheme.step(s, w, tau, carry).0
+    } else {
+        s
     }
 }
 
@@ -79,11 +85,7 @@ pub(super) struct Partial {
 impl SchemeVisitor for Partial {
     type Out = BodyState;
     fn visit<S: Scheme>(self, scheme: S) -> BodyState {
-        if self.tau > 0.0 {
-            scheme.step(self.s, self.w, self.tau, self.carry).0
-        } else {
-            self.s
-        }
+        partial(&scheme, self.s, self.carry, self.w, self.tau)
     }
 }
 
