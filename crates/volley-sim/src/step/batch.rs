@@ -6,7 +6,7 @@ use crate::integrate::{Scheme, SchemeVisitor, visit};
 use crate::world::World;
 
 use super::guard::{Guard, lanes_over_cap};
-use super::kernel::{fill_carry, run};
+use super::kernel::{run, start_carry};
 use super::lanes::{Fixed, Lanes};
 
 /// Bodies per block of a batch: with their backup (about 136 bytes a body) a block stays in
@@ -128,10 +128,7 @@ impl SchemeVisitor for Batch<'_, '_> {
             carry_valid,
             work,
         } = self;
-        let mut extra = 0;
-        if S::CARRIES_FORCE && !carry_valid {
-            extra = fill_carry(&scheme, &mut lanes);
-        }
+        let extra = start_carry(&scheme, &mut lanes, carry_valid);
         let (evals, ok) = split_batch::<S>(&scheme, lanes, saved, events, &work);
         BatchOut {
             evals: evals + extra,

@@ -99,10 +99,7 @@ impl SchemeVisitor for Integrate<'_, '_> {
             events,
             carry_valid,
         } = self;
-        let mut extra = 0;
-        if S::CARRIES_FORCE && !carry_valid {
-            extra = fill_carry(&scheme, &mut lanes);
-        }
+        let extra = start_carry(&scheme, &mut lanes, carry_valid);
         let out = if frame.contacts.is_empty() {
             split_run::<S, false>(&scheme, lanes, frame, events)
         } else {
@@ -113,6 +110,18 @@ impl SchemeVisitor for Integrate<'_, '_> {
             carried: S::CARRIES_FORCE,
             ..out
         }
+    }
+}
+
+/// What both visitors (the per-tick [`Integrate`] and the batch) do first: fill the carried
+/// force where the scheme carries one and it is not valid yet. Returns the force evaluations
+/// that cost (one per body), or 0.
+#[inline]
+pub(super) fn start_carry<S: Scheme>(scheme: &S, lanes: &mut Lanes, carry_valid: bool) -> u64 {
+    if S::CARRIES_FORCE && !carry_valid {
+        fill_carry(scheme, lanes)
+    } else {
+        0
     }
 }
 
