@@ -15,6 +15,7 @@ use crate::exact::{AimError, Arc, aim};
 use crate::forces::{ForceKind, Forces, PointMass, Spring};
 use crate::integrate::{DEFAULT_TOLERANCE, Integrator};
 
+mod builder;
 mod bundled;
 mod error;
 mod raw;
@@ -22,6 +23,7 @@ mod raw;
 mod tests;
 mod validate;
 
+pub use builder::{BUILT, SceneBuilder};
 pub use bundled::{BUNDLED, bundled};
 pub use error::{IntegratorError, InvalidValue, SceneError, ValueProblem};
 use raw::*;

@@ -12,6 +12,18 @@ impl Scene {
     /// compare lanes. What the window's "Save setup" writes; `parse` of it gives a scene that
     /// steps to the same bits.
     pub fn to_ron(&self) -> String {
+        format!(
+            "// Written by Volley's \"Save setup\": the scene `{}` as set up in the window (its\n\
+             // launcher, targets, integrator, step and compare lanes), bodies as launch\n\
+             // velocities. `volley window FILE` and `volley headless FILE` open it.\n{}\n",
+            // Escaped: a name with a line break would end the comment and break the file.
+            self.name.escape_debug(),
+            self.ron_body()
+        )
+    }
+
+    /// The scene as RON, without the header comment [`Scene::to_ron`] adds.
+    pub(super) fn ron_body(&self) -> String {
         let f = &self.forces;
         let mut forces = Vec::new();
         if let Some(g) = f.gravity {
@@ -73,15 +85,8 @@ impl Scene {
         let config = ron::ser::PrettyConfig::new()
             .struct_names(true)
             .extensions(ron::extensions::Extensions::IMPLICIT_SOME);
-        let body = ron::ser::to_string_pretty(&raw, config)
-            .unwrap_or_else(|e| format!("// could not write the scene: {e}\n"));
-        format!(
-            "// Written by Volley's \"Save setup\": the scene `{}` as set up in the window (its\n\
-             // launcher, targets, integrator, step and compare lanes), bodies as launch\n\
-             // velocities. `volley window FILE` and `volley headless FILE` open it.\n{body}\n",
-            // Escaped: a name with a line break would end the comment and break the file.
-            self.name.escape_debug()
-        )
+        ron::ser::to_string_pretty(&raw, config)
+            .unwrap_or_else(|e| format!("// could not write the scene: {e}\n"))
     }
 }
 

@@ -1,0 +1,217 @@
+//! A scene built in code: [`Scene::builder`] and [`SceneBuilder`].
+//!
+//! A builder starts from the defaults a scene file gets (velocity Verlet, one substep, 10 s,
+//! no forces, no contacts, seed 0) and sets what a game names. [`SceneBuilder::build`] writes
+//! the scene as scene-file text and reads it back through [`super::parse`], so a built scene is
+//! validated by the same checks, with the same errors (naming the field), as a file, and its
+//! [`Scene::source`] is a scene file that a recording can embed and `volley headless` can open.
+
+use glam::DVec3;
+
+use super::*;
+
+/// The label a built scene's errors and source name as its file.
+pub const BUILT: &str = "<built in code>";
+
+/// A scene under construction; see [`Scene::builder`].
+#[derive(Clone, Debug)]
+#[must_use = "a builder does nothing until `build` is called"]
+pub struct SceneBuilder {
+    scene: Scene,
+    dt: f64,
+}
+
+impl Scene {
+    /// A scene named `name` stepping every `dt` seconds, with a scene file's defaults, to be set
+    /// up in code:
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use volley_sim::scene::{BodySpec, Scene};
+    /// use volley_sim::contact::Ground;
+    /// use volley_sim::Integrator;
+    ///
+    /// let scene = Scene::builder("shot", 1.0 / 60.0)
+    ///     .integrator(Integrator::Rk4)
+    ///     .gravity(DVec3::new(0.0, 0.0, -9.81))
+    ///     .quadratic_drag(0.001)
+    ///     .ground(Ground { height: 0.0, restitution: 0.5 })
+    ///     .body(BodySpec {
+    ///         mass: 0.145,
+    ///         radius: 0.037,
+    ///         position: DVec3::new(0.0, 0.0, 1.8),
+    ///         velocity: DVec3::new(30.0, 0.0, 10.0),
+    ///     })
+    ///     .build()?;
+    /// assert_eq!(scene.bodies.len(), 1);
+    /// // The source is a scene file that reads back to the same scene.
+    /// let again = volley_sim::scene::parse(&scene.source, "again.ron", "shot")?;
+    /// assert_eq!(again.to_ron(), scene.to_ron());
+    ///
+    /// // A bad value is the error a file would give, naming the field.
+    /// let err = Scene::builder("bad", 0.01).gravity(DVec3::NAN).build().unwrap_err();
+    /// assert!(err.to_string().contains("forces[0]"), "{err}");
+    /// # Ok::<(), volley_sim::SceneError>(())
+    /// ```
+    pub fn builder(name: &str, dt: f64) -> SceneBuilder {
+        let defaults = format!(
+            "Scene(name: {name:?}, dt: 0.01, integrator: VelocityVerlet, bodies: [])",
+            name = name.escape_debug().to_string()
+        );
+        let scene = parse(&defaults, BUILT, name)
+            .expect("the builder's defaults are a valid scene for any name");
+        SceneBuilder { scene, dt }
+    }
+}
+
+impl SceneBuilder {
+    /// One line on what the scene shows.
+    pub fn description(mut self, text: &str) -> Self {
+        self.scene.description = text.to_string();
+        self
+    }
+
+    /// The integrator.
+    pub fn integrator(mut self, integrator: Integrator) -> Self {
+        self.scene.integrator = integrator;
+        self
+    }
+
+    /// Integrator steps per tick.
+    pub fn substeps(mut self, substeps: u32) -> Self {
+        self.scene.substeps = substeps;
+        self
+    }
+
+    /// The adaptive integrator's tolerance.
+    pub fn tolerance(mut self, tolerance: f64) -> Self {
+        self.scene.tolerance = tolerance;
+        self
+    }
+
+    /// Sim time (s) of tick 0.
+    pub fn start_time(mut self, t: f64) -> Self {
+        self.scene.start_time = t;
+        self
+    }
+
+    /// Sim time (s) a headless run covers.
+    pub fn duration(mut self, t: f64) -> Self {
+        self.scene.duration = t;
+        self
+    }
+
+    /// Seed of the world's random number generator.
+    pub fn seed(mut self, seed: u64) -> Self {
+        self.scene.seed = seed;
+        self
+    }
+
+    /// Every force term at once.
+    pub fn forces(mut self, forces: Forces) -> Self {
+        self.scene.forces = forces;
+        self
+    }
+
+    /// Gravity, `F = m g` (m/s^2).
+    pub fn gravity(mut self, g: DVec3) -> Self {
+        self.scene.forces.gravity = Some(g);
+        self
+    }
+
+    /// A constant force on every body (N).
+    pub fn constant_force(mut self, f: DVec3) -> Self {
+        self.scene.forces.constant = Some(f);
+        self
+    }
+
+    /// Linear drag, `F = -b v` (kg/s).
+    pub fn linear_drag(mut self, b: f64) -> Self {
+        self.scene.forces.linear_drag = Some(b);
+        self
+    }
+
+    /// Quadratic drag, `F = -c |v| v` (kg/m).
+    pub fn quadratic_drag(mut self, c: f64) -> Self {
+        self.scene.forces.quadratic_drag = Some(c);
+        self
+    }
+
+    /// A spring to an anchor.
+    pub fn spring(mut self, spring: Spring) -> Self {
+        self.scene.forces.spring = Some(spring);
+        self
+    }
+
+    /// Attraction to a point mass.
+    pub fn point_mass(mut self, point_mass: PointMass) -> Self {
+        self.scene.forces.point_mass = Some(point_mass);
+        self
+    }
+
+    /// The ground plane.
+    pub fn ground(mut self, ground: Ground) -> Self {
+        self.scene.ground = Some(ground);
+        self
+    }
+
+    /// One more wall.
+    pub fn wall(mut self, wall: Wall) -> Self {
+        self.scene.walls.push(wall);
+        self
+    }
+
+    /// One more target.
+    pub fn target(mut self, target: Target) -> Self {
+        self.scene.targets.push(target);
+        self
+    }
+
+    /// Swept or discrete contact detection.
+    pub fn detection(mut self, detection: Detection) -> Self {
+        self.scene.detection = detection;
+        self
+    }
+
+    /// One more body at tick 0 (ids in the order they are added).
+    pub fn body(mut self, body: BodySpec) -> Self {
+        self.scene.bodies.push(body);
+        self
+    }
+
+    /// Where fired projectiles start and how they are launched.
+    pub fn launcher(mut self, launcher: Launcher) -> Self {
+        self.scene.launcher = launcher;
+        self
+    }
+
+    /// Extra bodies fired at tick 0 with seeded spread.
+    pub fn volley(mut self, volley: Volley) -> Self {
+        self.scene.volley = Some(volley);
+        self
+    }
+
+    /// The divergence guard.
+    pub fn guard(mut self, guard: Guard) -> Self {
+        self.scene.guard = guard;
+        self
+    }
+
+    /// The scene, checked as a scene file is: written as one and read back, so every error is
+    /// the file's (naming the field) and [`Scene::source`] is that file.
+    pub fn build(self) -> Result<Scene, SceneError> {
+        let SceneBuilder { mut scene, dt } = self;
+        scene.timestep = timestep_from_secs("dt", dt).map_err(|e| SceneError {
+            file: BUILT.to_string(),
+            position: None,
+            message: e.problem.to_string(),
+            field: Some(e.field),
+        })?;
+        let text = format!(
+            "// The scene `{}`, built in code with volley_sim::scene::SceneBuilder.\n{}\n",
+            scene.name.escape_debug(),
+            scene.ron_body()
+        );
+        parse(&text, BUILT, &scene.name)
+    }
+}
