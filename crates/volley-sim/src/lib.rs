@@ -97,3 +97,8 @@ pub use integrate::Integrator;
 pub use scene::{Scene, SceneError};
 pub use sim_loop::{LoopError, ObserverError, SimLoop, TickObserver};
 pub use world::{BodyId, Divergence, World};
+
+// docs/library.md's examples, compiled and run as doc tests so the page cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/library.md")]
+pub struct LibraryDoc;
