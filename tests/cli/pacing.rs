@@ -166,7 +166,14 @@ fn a_sweep_run_in_shards_merges_to_the_same_files() {
     let shard = |i: usize| format!("{d}/pacing.shard-{i}-of-2.json");
     let merged = dir.join("merged");
     volley_stdout(
-        &["pacing", "--merge", &shard(1), &shard(0), "--out", merged.to_str().unwrap()],
+        &[
+            "pacing",
+            "--merge",
+            &shard(1),
+            &shard(0),
+            "--out",
+            merged.to_str().unwrap(),
+        ],
         &[],
     );
     for file in ["pacing.csv", "report.md", "report.svg"] {
