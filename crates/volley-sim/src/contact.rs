@@ -18,6 +18,30 @@ mod surfaces;
 
 pub use surfaces::*;
 
+/// Where and when a step runs, as the contact stage needs it.
+pub(crate) struct StepContext<'a> {
+    pub contacts: &'a Contacts,
+    /// Tick number the step produces.
+    pub tick: u64,
+    /// Sim time at the start of the step (s).
+    pub t0: f64,
+    /// The same instant as time since tick 0 (s): `tick * H + k * h` for substep `k`, where
+    /// moving targets are.
+    pub since_start: f64,
+    /// Step length (s).
+    pub h: f64,
+    /// Normal speed below which a bounce ends at rest (m/s): gravity's speed gain in one step.
+    pub rest_speed: f64,
+}
+
+/// The body being resolved.
+#[derive(Clone, Copy)]
+pub(crate) struct Particle {
+    pub id: BodyId,
+    pub w: Mass,
+    pub r: f64,
+}
+
 /// Most surface impacts resolved inside one step before the rest is clamped.
 const MAX_IMPACTS_PER_STEP: usize = 16;
 
@@ -86,13 +110,13 @@ fn planes(contacts: &Contacts, p: DVec3, r: f64) -> impl Iterator<Item = Plane> 
 /// Whether a body moving from `s0` to `s1` might need the contact stage at all.
 #[inline]
 pub(crate) fn needs_resolution(
-    frame: &StepFrame,
+    ctx: &StepContext,
     r: f64,
     inv_m: f64,
     s0: &BodyState,
     s1: &BodyState,
 ) -> bool {
-    let contacts = frame.contacts;
+    let contacts = ctx.contacts;
     if let Some(g) = contacts.ground
         && s1.p.z - g.height - r < 0.0
     {
@@ -107,8 +131,8 @@ pub(crate) fn needs_resolution(
     }
     for t in &contacts.targets {
         let (c0, c1) = (
-            t.center_at(frame.since_start),
-            t.center_at(frame.since_start + frame.h),
+            t.center_at(ctx.since_start),
+            t.center_at(ctx.since_start + ctx.h),
         );
         let (g0, g1) = (
             approach_rate(t, c0, s0, inv_m),
@@ -136,22 +160,22 @@ fn approach_rate(t: &Target, c: DVec3, s: &BodyState, inv_m: f64) -> f64 {
 /// extra force evaluations spent; pushes events to `out`.
 pub(crate) fn resolve<S: Scheme>(
     scheme: &S,
-    frame: &StepFrame,
+    ctx: &StepContext,
     body: Particle,
     (s0, c0): (BodyState, DVec3),
     (s1, c1): (BodyState, DVec3),
     out: &mut Vec<Event>,
 ) -> (BodyState, DVec3, u64) {
-    match frame.contacts.detection {
+    match ctx.contacts.detection {
         Detection::Swept => {
-            let (s, c, n) = resolve_swept(scheme, frame, body, (s0, c0), (s1, c1), out);
+            let (s, c, n) = resolve_swept(scheme, ctx, body, (s0, c0), (s1, c1), out);
             if n > MAX_CONTACT_EVALS {
                 return (SPENT, c, n);
             }
             (s, c, n)
         }
         Detection::Discrete => {
-            let (s, c) = resolve_discrete(scheme, frame, body, s0, (s1, c1), out);
+            let (s, c) = resolve_discrete(scheme, ctx, body, s0, (s1, c1), out);
             (s, c, u64::from(S::CARRIES_FORCE))
         }
     }
@@ -159,7 +183,7 @@ pub(crate) fn resolve<S: Scheme>(
 
 fn resolve_swept<S: Scheme>(
     scheme: &S,
-    frame: &StepFrame,
+    ctx: &StepContext,
     body: Particle,
     (mut s, mut c): (BodyState, DVec3),
     (mut end, mut end_c): (BodyState, DVec3),
@@ -167,7 +191,7 @@ fn resolve_swept<S: Scheme>(
 ) -> (BodyState, DVec3, u64) {
     let mut evals = 0u64;
     let mut elapsed = 0.0; // time from the step start to the segment start
-    let mut remaining = frame.h;
+    let mut remaining = ctx.h;
     let step = |s: BodyState, c: DVec3, tau: f64, evals: &mut u64| {
         if *evals > MAX_CONTACT_EVALS {
             return (SPENT, c);
@@ -179,7 +203,7 @@ fn resolve_swept<S: Scheme>(
     for _ in 0..MAX_IMPACTS_PER_STEP {
         // Earliest surface crossing in this segment.
         let mut first: Option<(f64, Plane)> = None;
-        for plane in planes(frame.contacts, s.p, body.r) {
+        for plane in planes(ctx.contacts, s.p, body.r) {
             let (d0, d1) = (plane.distance(s.p), plane.distance(end.p));
             if d1 >= 0.0 {
                 continue;
@@ -211,7 +235,7 @@ fn resolve_swept<S: Scheme>(
         };
         targets_on_segment(
             scheme,
-            frame,
+            ctx,
             body,
             elapsed,
             (s, c),
@@ -230,12 +254,12 @@ fn resolve_swept<S: Scheme>(
         remaining -= tau;
         let mv_n = plane.normal.dot(s.mv);
         let speed_in = -mv_n * body.w.inv;
-        let time = frame.t0 + elapsed;
+        let time = ctx.t0 + elapsed;
         if speed_in > 0.0 {
             s.mv -= ((1.0 + plane.restitution) * mv_n) * plane.normal;
-            if speed_in * plane.restitution > frame.rest_speed {
+            if speed_in * plane.restitution > ctx.rest_speed {
                 out.push(Event {
-                    tick: frame.tick,
+                    tick: ctx.tick,
                     time,
                     body: body.id,
                     kind: EventKind::Impact {
@@ -245,9 +269,9 @@ fn resolve_swept<S: Scheme>(
                     },
                 });
             } else {
-                if speed_in > frame.rest_speed * REST_MARGIN {
+                if speed_in > ctx.rest_speed * REST_MARGIN {
                     out.push(Event {
-                        tick: frame.tick,
+                        tick: ctx.tick,
                         time,
                         body: body.id,
                         kind: EventKind::Rest {
@@ -258,7 +282,7 @@ fn resolve_swept<S: Scheme>(
                 let (s, c) = settle(scheme, body, plane, (s, c), remaining, &mut evals);
                 return (s, c, evals);
             }
-        } else if -mv_n * body.w.inv <= frame.rest_speed && tau == 0.0 {
+        } else if -mv_n * body.w.inv <= ctx.rest_speed && tau == 0.0 {
             // Resting contact: slide along the surface for the rest of the step.
             let (s, c) = settle(scheme, body, plane, (s, c), remaining, &mut evals);
             return (s, c, evals);
@@ -267,7 +291,7 @@ fn resolve_swept<S: Scheme>(
     }
     // Still bouncing after the cap (a body jittering in a corner): keep it outside every surface.
     let (mut s, mut c) = (end, end_c);
-    clamp_outside(frame, body, &mut s);
+    clamp_outside(ctx, body, &mut s);
     if S::CARRIES_FORCE {
         c = scheme.start_carry(s, body.w);
         evals += 1; // the carried force: one evaluation
@@ -309,8 +333,8 @@ fn settle<S: Scheme>(
     (end, end_c)
 }
 
-fn clamp_outside(frame: &StepFrame, body: Particle, s: &mut BodyState) {
-    if let Some(plane) = planes(frame.contacts, s.p, body.r).next()
+fn clamp_outside(ctx: &StepContext, body: Particle, s: &mut BodyState) {
+    if let Some(plane) = planes(ctx.contacts, s.p, body.r).next()
         && plane.surface == Surface::Ground
     {
         let d = plane.distance(s.p);
@@ -328,7 +352,7 @@ fn clamp_outside(frame: &StepFrame, body: Particle, s: &mut BodyState) {
 #[allow(clippy::too_many_arguments)]
 fn targets_on_segment<S: Scheme>(
     scheme: &S,
-    frame: &StepFrame,
+    ctx: &StepContext,
     body: Particle,
     elapsed: f64,
     (a, ca): (BodyState, DVec3),
@@ -348,8 +372,8 @@ fn targets_on_segment<S: Scheme>(
         spent.set(spent.get() + n);
         s
     };
-    let since = frame.since_start + elapsed;
-    for (i, target) in frame.contacts.targets.iter().enumerate() {
+    let since = ctx.since_start + elapsed;
+    for (i, target) in ctx.contacts.targets.iter().enumerate() {
         let reach = target.radius + body.r;
         let at = |tau: f64| target.center_at(since + tau);
         let gap = |s: &BodyState, tau: f64| (s.p - at(tau)).length() - reach;
@@ -372,16 +396,16 @@ fn targets_on_segment<S: Scheme>(
             let (tau_hit, _) =
                 bracketed_root(|tau| gap(&path(tau), tau), (0.0, gap0), (end, gap_min));
             out.push(Event {
-                tick: frame.tick,
-                time: frame.t0 + elapsed + tau_hit,
+                tick: ctx.tick,
+                time: ctx.t0 + elapsed + tau_hit,
                 body: body.id,
                 kind: EventKind::Hit { target: i as u32 },
             });
         }
         if let Some(tau) = tau_min {
             out.push(Event {
-                tick: frame.tick,
-                time: frame.t0 + elapsed + tau,
+                tick: ctx.tick,
+                time: ctx.t0 + elapsed + tau,
                 body: body.id,
                 kind: EventKind::Approach {
                     target: i as u32,
@@ -396,21 +420,21 @@ fn targets_on_segment<S: Scheme>(
 
 fn resolve_discrete<S: Scheme>(
     scheme: &S,
-    frame: &StepFrame,
+    ctx: &StepContext,
     body: Particle,
     s0: BodyState,
     (mut s, mut c): (BodyState, DVec3),
     out: &mut Vec<Event>,
 ) -> (BodyState, DVec3) {
-    let t_end = frame.t0 + frame.h;
+    let t_end = ctx.t0 + ctx.h;
     let mut moved = false;
-    for plane in planes(frame.contacts, s0.p, body.r) {
+    for plane in planes(ctx.contacts, s0.p, body.r) {
         let d = plane.distance(s.p);
         let inside = match plane.surface {
             Surface::Ground => d < 0.0,
             // Overlapping the slab now: |distance to the mid-plane| below half thickness + r.
             Surface::Wall(i) => {
-                let w = &frame.contacts.walls[i as usize];
+                let w = &ctx.contacts.walls[i as usize];
                 w.normal.dot(s.p - w.point).abs() < 0.5 * w.thickness + body.r
             }
         };
@@ -423,7 +447,7 @@ fn resolve_discrete<S: Scheme>(
         if mv_n < 0.0 {
             s.mv -= ((1.0 + plane.restitution) * mv_n) * plane.normal;
             out.push(Event {
-                tick: frame.tick,
+                tick: ctx.tick,
                 time: t_end,
                 body: body.id,
                 kind: EventKind::Impact {
@@ -437,15 +461,15 @@ fn resolve_discrete<S: Scheme>(
     if moved && S::CARRIES_FORCE {
         c = scheme.start_carry(s, body.w);
     }
-    for (i, target) in frame.contacts.targets.iter().enumerate() {
+    for (i, target) in ctx.contacts.targets.iter().enumerate() {
         let reach = target.radius + body.r;
         let (d0, d1) = (
-            (s0.p - target.center_at(frame.since_start)).length(),
-            (s.p - target.center_at(frame.since_start + frame.h)).length(),
+            (s0.p - target.center_at(ctx.since_start)).length(),
+            (s.p - target.center_at(ctx.since_start + ctx.h)).length(),
         );
         if d1 <= reach && d0 > reach {
             out.push(Event {
-                tick: frame.tick,
+                tick: ctx.tick,
                 time: t_end,
                 body: body.id,
                 kind: EventKind::Hit { target: i as u32 },

@@ -148,27 +148,3 @@ pub enum EventKind {
         hit: bool,
     },
 }
-
-/// Where and when a step runs, as the contact stage needs it.
-pub(crate) struct StepFrame<'a> {
-    pub contacts: &'a Contacts,
-    /// Tick number the step produces.
-    pub tick: u64,
-    /// Sim time at the start of the step (s).
-    pub t0: f64,
-    /// The same instant as time since tick 0 (s): `tick * H + k * h` for substep `k`, where
-    /// moving targets are.
-    pub since_start: f64,
-    /// Step length (s).
-    pub h: f64,
-    /// Normal speed below which a bounce ends at rest (m/s): gravity's speed gain in one step.
-    pub rest_speed: f64,
-}
-
-/// The body being resolved.
-#[derive(Clone, Copy)]
-pub(crate) struct Particle {
-    pub id: BodyId,
-    pub w: Mass,
-    pub r: f64,
-}

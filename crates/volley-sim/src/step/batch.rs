@@ -1,13 +1,13 @@
 //! Many ticks of a world without contacts, block by block while each block sits in cache, with
 //! the state saved first so a batch that diverges is undone and run again tick by tick.
 
-use crate::contact::{Event, StepFrame};
+use crate::contact::{Event, StepContext};
 use crate::integrate::{Scheme, SchemeVisitor, visit};
 use crate::world::World;
 
-use super::guard::{Guard, lanes_over_cap};
+use super::chunk::{Chunk, Fixed};
+use super::guard::{Guard, chunk_over_cap};
 use super::kernel::{run, start_carry};
-use super::lanes::{Fixed, Lanes};
 
 /// Bodies per block of a batch: with their backup (about 136 bytes a body) a block stays in
 /// the L2 cache while it runs every tick of the batch.
@@ -32,7 +32,7 @@ impl World {
         saved.mv.resize(n);
         saved.carry.resize(if carries { n } else { 0 });
         let h = self.params.h / f64::from(self.params.substeps);
-        let frame = StepFrame {
+        let ctx = StepContext {
             contacts: &self.params.contacts,
             tick: self.state.tick + 1,
             t0,
@@ -48,14 +48,14 @@ impl World {
             inv_mass: &b.inv_mass,
             radius: &b.radius,
         };
-        let lanes = fixed.lanes(&mut b.p, &mut b.mv, &mut self.state.carry, carries);
-        let saved_lanes = fixed.lanes(&mut saved.p, &mut saved.mv, &mut saved.carry, carries);
+        let chunk = fixed.chunk(&mut b.p, &mut b.mv, &mut self.state.carry, carries);
+        let saved_chunk = fixed.chunk(&mut saved.p, &mut saved.mv, &mut saved.carry, carries);
         // The guard's test, on the model `guard_energy` uses, so it trips exactly where it would.
         let (caps, forces) = (&b.energy_cap[..], &self.state.forces);
         let field = forces.constant_field();
-        let over_cap = move |l: &Lanes| match &field {
-            Some(field) => lanes_over_cap(l, field, caps),
-            None => lanes_over_cap(l, forces, caps),
+        let over_cap = move |l: &Chunk| match &field {
+            Some(field) => chunk_over_cap(l, field, caps),
+            None => chunk_over_cap(l, forces, caps),
         };
         let guard = Guard {
             every: u64::from(self.params.guard.every),
@@ -67,12 +67,12 @@ impl World {
             &self.state.forces,
             self.params.tolerance,
             Batch {
-                lanes,
-                saved: saved_lanes,
+                chunk,
+                saved: saved_chunk,
                 events: &mut self.scratch.chunk_events[..chunks],
                 carry_valid: self.carry_valid,
                 work: BatchWork {
-                    frame: &frame,
+                    ctx: &ctx,
                     ticks,
                     substeps: self.params.substeps,
                     guard: &guard,
@@ -100,8 +100,8 @@ impl World {
 
 /// [`World::step_ticks`]'s batch over all bodies, saving their state into `saved` first.
 pub(super) struct Batch<'a, 'f> {
-    lanes: Lanes<'a>,
-    saved: Lanes<'a>,
+    chunk: Chunk<'a>,
+    saved: Chunk<'a>,
     events: &'a mut [Vec<Event>],
     carry_valid: bool,
     work: BatchWork<'f>,
@@ -122,14 +122,14 @@ impl SchemeVisitor for Batch<'_, '_> {
     type Out = BatchOut;
     fn visit<S: Scheme>(self, scheme: S) -> BatchOut {
         let Batch {
-            mut lanes,
+            mut chunk,
             saved,
             events,
             carry_valid,
             work,
         } = self;
-        let extra = start_carry(&scheme, &mut lanes, carry_valid);
-        let (evals, ok) = split_batch::<S>(&scheme, lanes, saved, events, &work);
+        let extra = start_carry(&scheme, &mut chunk, carry_valid);
+        let (evals, ok) = split_batch::<S>(&scheme, chunk, saved, events, &work);
         BatchOut {
             evals: evals + extra,
             ok,
@@ -140,7 +140,7 @@ impl SchemeVisitor for Batch<'_, '_> {
 
 /// What every chunk of a batch runs: `ticks` ticks of `substeps` steps each, with the guard.
 pub(super) struct BatchWork<'f> {
-    frame: &'f StepFrame<'f>,
+    ctx: &'f StepContext<'f>,
     ticks: u64,
     substeps: u32,
     guard: &'f Guard<'f>,
@@ -149,17 +149,17 @@ pub(super) struct BatchWork<'f> {
 /// Splits a batch into `events.len()` chunks like [`split_run`], combining in order.
 pub(super) fn split_batch<S: Scheme>(
     scheme: &S,
-    lanes: Lanes,
-    saved: Lanes,
+    chunk: Chunk,
+    saved: Chunk,
     events: &mut [Vec<Event>],
     work: &BatchWork,
 ) -> (u64, bool) {
     if events.len() <= 1 {
-        return batch_chunk::<S>(scheme, lanes, saved, &mut events[0], work);
+        return batch_chunk::<S>(scheme, chunk, saved, &mut events[0], work);
     }
     let half = events.len() / 2;
-    let mid = lanes.len() * half / events.len();
-    let (left, right) = lanes.split_at(mid);
+    let mid = chunk.len() * half / events.len();
+    let (left, right) = chunk.split_at(mid);
     let (saved_left, saved_right) = saved.split_at(mid);
     let (ev_left, ev_right) = events.split_at_mut(half);
     let (a, b) = rayon::join(
@@ -175,8 +175,8 @@ pub(super) fn split_batch<S: Scheme>(
 /// finite and within its energy bound.
 pub(super) fn batch_chunk<S: Scheme>(
     scheme: &S,
-    mut l: Lanes,
-    mut saved: Lanes,
+    mut l: Chunk,
+    mut saved: Chunk,
     events: &mut Vec<Event>,
     work: &BatchWork,
 ) -> (u64, bool) {
@@ -189,7 +189,7 @@ pub(super) fn batch_chunk<S: Scheme>(
         saved.sub(start, end).copy_state(&block);
         for tick in guard.first_tick..guard.first_tick + work.ticks {
             for _ in 0..work.substeps {
-                let o = run::<S, false>(scheme, &mut block.sub(0, end - start), work.frame, events);
+                let o = run::<S, false>(scheme, &mut block.sub(0, end - start), work.ctx, events);
                 evals += o.evals;
                 ok &= o.first_non_finite.is_none();
             }

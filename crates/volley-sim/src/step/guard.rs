@@ -6,7 +6,7 @@ use glam::DVec3;
 use crate::forces::ForceModel;
 use crate::world::{Divergence, DivergenceCause, World};
 
-use super::lanes::Lanes;
+use super::chunk::Chunk;
 
 impl World {
     /// The energy guard stage: every `guard.every` ticks, the first body whose energy passed
@@ -52,7 +52,7 @@ pub(super) fn first_over_cap<F: ForceModel>(
 }
 
 /// Whether any body of `l` has more energy than its bound: [`first_over_cap`]'s test.
-pub(super) fn lanes_over_cap<F: ForceModel>(l: &Lanes, f: &F, caps: &[f64]) -> bool {
+pub(super) fn chunk_over_cap<F: ForceModel>(l: &Chunk, f: &F, caps: &[f64]) -> bool {
     let n = l.len();
     let cap = &caps[l.offset..l.offset + n];
     (0..n).any(|i| {
@@ -66,5 +66,5 @@ pub(super) fn lanes_over_cap<F: ForceModel>(l: &Lanes, f: &F, caps: &[f64]) -> b
 pub(super) struct Guard<'f> {
     pub(super) every: u64,
     pub(super) first_tick: u64,
-    pub(super) over_cap: &'f (dyn Fn(&Lanes) -> bool + Sync),
+    pub(super) over_cap: &'f (dyn Fn(&Chunk) -> bool + Sync),
 }

@@ -4,12 +4,12 @@
 
 use glam::DVec3;
 
-use crate::contact::{self, Event, Particle, StepFrame};
+use crate::contact::{self, Event, Particle, StepContext};
 use crate::integrate::{BodyState, Mass, Scheme, SchemeVisitor, visit};
 use crate::simd::{SimdLevel, simd_level};
 use crate::world::World;
 
-use super::lanes::{Fixed, Lanes, split_run};
+use super::chunk::{Chunk, Fixed, split_run};
 
 impl World {
     /// Integrate + contacts over all bodies; returns the first body whose state is not finite.
@@ -23,7 +23,7 @@ impl World {
     ) -> Option<usize> {
         let (chunks, carries) = self.prepare_chunks();
         let gravity = self.state.forces.gravity.map_or(0.0, DVec3::length);
-        let frame = StepFrame {
+        let ctx = StepContext {
             contacts: &self.params.contacts,
             tick,
             t0,
@@ -38,14 +38,14 @@ impl World {
             inv_mass: &b.inv_mass,
             radius: &b.radius,
         };
-        let lanes = fixed.lanes(&mut b.p, &mut b.mv, &mut self.state.carry, carries);
+        let chunk = fixed.chunk(&mut b.p, &mut b.mv, &mut self.state.carry, carries);
         let out = visit(
             self.state.integrator,
             &self.state.forces,
             self.params.tolerance,
             Integrate {
-                lanes,
-                frame: &frame,
+                chunk,
+                ctx: &ctx,
                 events: &mut self.scratch.chunk_events[..chunks],
                 carry_valid: self.carry_valid,
             },
@@ -84,8 +84,8 @@ impl KernelOut {
 }
 
 pub(super) struct Integrate<'a, 'f> {
-    lanes: Lanes<'a>,
-    frame: &'f StepFrame<'f>,
+    chunk: Chunk<'a>,
+    ctx: &'f StepContext<'f>,
     events: &'a mut [Vec<Event>],
     carry_valid: bool,
 }
@@ -94,16 +94,16 @@ impl SchemeVisitor for Integrate<'_, '_> {
     type Out = KernelOut;
     fn visit<S: Scheme>(self, scheme: S) -> KernelOut {
         let Integrate {
-            mut lanes,
-            frame,
+            mut chunk,
+            ctx,
             events,
             carry_valid,
         } = self;
-        let extra = start_carry(&scheme, &mut lanes, carry_valid);
-        let out = if frame.contacts.is_empty() {
-            split_run::<S, false>(&scheme, lanes, frame, events)
+        let extra = start_carry(&scheme, &mut chunk, carry_valid);
+        let out = if ctx.contacts.is_empty() {
+            split_run::<S, false>(&scheme, chunk, ctx, events)
         } else {
-            split_run::<S, true>(&scheme, lanes, frame, events)
+            split_run::<S, true>(&scheme, chunk, ctx, events)
         };
         KernelOut {
             evals: out.evals + extra,
@@ -117,15 +117,15 @@ impl SchemeVisitor for Integrate<'_, '_> {
 /// force where the scheme carries one and it is not valid yet. Returns the force evaluations
 /// that cost (one per body), or 0.
 #[inline]
-pub(super) fn start_carry<S: Scheme>(scheme: &S, lanes: &mut Lanes, carry_valid: bool) -> u64 {
+pub(super) fn start_carry<S: Scheme>(scheme: &S, chunk: &mut Chunk, carry_valid: bool) -> u64 {
     if S::CARRIES_FORCE && !carry_valid {
-        fill_carry(scheme, lanes)
+        fill_carry(scheme, chunk)
     } else {
         0
     }
 }
 
-pub(super) fn fill_carry<S: Scheme>(scheme: &S, l: &mut Lanes) -> u64 {
+pub(super) fn fill_carry<S: Scheme>(scheme: &S, l: &mut Chunk) -> u64 {
     for i in 0..l.len() {
         let s = BodyState {
             p: DVec3::new(l.px[i], l.py[i], l.pz[i]),
@@ -151,8 +151,8 @@ pub(super) fn finite(v: DVec3) -> bool {
 #[inline]
 pub(super) fn run<S: Scheme, const CONTACTS: bool>(
     scheme: &S,
-    l: &mut Lanes,
-    frame: &StepFrame,
+    l: &mut Chunk,
+    ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
     // A vector loop only pays off once there is a vector's worth of bodies; the versions give
@@ -164,31 +164,31 @@ pub(super) fn run<S: Scheme, const CONTACTS: bool>(
         match simd_level() {
             _ if l.len() < 8 => {}
             SimdLevel::Avx512 if streaming => {
-                return unsafe { run_avx512::<S, CONTACTS, true>(scheme, l, frame, events) };
+                return unsafe { run_avx512::<S, CONTACTS, true>(scheme, l, ctx, events) };
             }
             SimdLevel::Avx512 => {
-                return unsafe { run_avx512::<S, CONTACTS, false>(scheme, l, frame, events) };
+                return unsafe { run_avx512::<S, CONTACTS, false>(scheme, l, ctx, events) };
             }
             SimdLevel::Avx2 if streaming => {
-                return unsafe { run_avx2::<S, CONTACTS, true>(scheme, l, frame, events) };
+                return unsafe { run_avx2::<S, CONTACTS, true>(scheme, l, ctx, events) };
             }
             SimdLevel::Avx2 => {
-                return unsafe { run_avx2::<S, CONTACTS, false>(scheme, l, frame, events) };
+                return unsafe { run_avx2::<S, CONTACTS, false>(scheme, l, ctx, events) };
             }
             SimdLevel::Baseline => {}
         }
     }
-    run_baseline::<S, CONTACTS>(scheme, l, frame, events)
+    run_baseline::<S, CONTACTS>(scheme, l, ctx, events)
 }
 
 #[inline(never)]
 pub(super) fn run_baseline<S: Scheme, const CONTACTS: bool>(
     scheme: &S,
-    l: &mut Lanes,
-    frame: &StepFrame,
+    l: &mut Chunk,
+    ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    run_lanes::<S, CONTACTS, false>(scheme, l, frame, events)
+    run_chunk::<S, CONTACTS, false>(scheme, l, ctx, events)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -196,11 +196,11 @@ pub(super) fn run_baseline<S: Scheme, const CONTACTS: bool>(
 #[target_feature(enable = "avx2")]
 pub(super) fn run_avx2<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
     scheme: &S,
-    l: &mut Lanes,
-    frame: &StepFrame,
+    l: &mut Chunk,
+    ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    run_lanes::<S, CONTACTS, STREAMING>(scheme, l, frame, events)
+    run_chunk::<S, CONTACTS, STREAMING>(scheme, l, ctx, events)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -208,11 +208,11 @@ pub(super) fn run_avx2<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
 #[target_feature(enable = "avx512f")]
 pub(super) fn run_avx512<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
     scheme: &S,
-    l: &mut Lanes,
-    frame: &StepFrame,
+    l: &mut Chunk,
+    ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    run_lanes::<S, CONTACTS, STREAMING>(scheme, l, frame, events)
+    run_chunk::<S, CONTACTS, STREAMING>(scheme, l, ctx, events)
 }
 
 /// Chunks of at least this many bodies (about 30 MB of state, an L3's worth) stream from
@@ -224,10 +224,10 @@ pub const STREAMING_MIN_BODIES: usize = 1 << 18;
 /// The per-body loop of one chunk, inlined into each instruction-set version of [`run`].
 /// `STREAMING` recomputes `1 / m` instead of loading it (see [`STREAMING_MIN_BODIES`]).
 #[inline(always)]
-pub(super) fn run_lanes<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
+pub(super) fn run_chunk<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
     scheme: &S,
-    l: &mut Lanes,
-    frame: &StepFrame,
+    l: &mut Chunk,
+    ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
     let n = l.len();
@@ -239,7 +239,7 @@ pub(super) fn run_lanes<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
     } else {
         (&mut l.cx[..0], &mut l.cy[..0], &mut l.cz[..0])
     };
-    let h = frame.h;
+    let h = ctx.h;
     // An adaptive scheme counts its own evaluations, body by body.
     let mut evals = if S::ADAPTIVE { 0 } else { n as u64 * S::EVALS };
     let mut all_finite = true;
@@ -268,14 +268,14 @@ pub(super) fn run_lanes<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
         } else {
             scheme.step(s0, w, h, c0)
         };
-        if CONTACTS && contact::needs_resolution(frame, l.radius[i], w.inv, &s0, &s1) {
+        if CONTACTS && contact::needs_resolution(ctx, l.radius[i], w.inv, &s0, &s1) {
             let body = Particle {
                 id: l.ids[i],
                 w,
                 r: l.radius[i],
             };
             let extra;
-            (s1, c1, extra) = contact::resolve(scheme, frame, body, (s0, c0), (s1, c1), events);
+            (s1, c1, extra) = contact::resolve(scheme, ctx, body, (s0, c0), (s1, c1), events);
             evals += extra;
         }
         all_finite &= finite(s1.p) & finite(s1.mv);

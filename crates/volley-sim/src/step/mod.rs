@@ -1,7 +1,7 @@
 //! One tick as a short list of named stages.
 //!
 //! This file is the table of contents, [`World::step`] and [`World::step_ticks`]; each stage
-//! lives beside it in a file of its own: `lanes` (the structure-of-arrays views one thread works
+//! lives beside it in a file of its own: `chunk` (the structure-of-arrays views one thread works
 //! on, and splitting them over threads), `kernel` (the per-body loop and its CPU-feature
 //! dispatch), `batch` (many ticks block by block, with undo) and `guard` (the energy guard).
 //!
@@ -21,9 +21,9 @@
 //! so the state and the events are bit-identical for every thread count.
 
 mod batch;
+mod chunk;
 mod guard;
 mod kernel;
-mod lanes;
 
 pub use crate::simd::{SimdLevel, simd_level};
 use crate::world::{Divergence, DivergenceCause, World};

@@ -1,10 +1,10 @@
 //! Views of the per-body columns that one thread works on, and splitting them over threads.
 //!
-//! A [`Lanes`] borrows a contiguous run of bodies: `p`, `mV` and the carried force mutably, the
+//! A [`Chunk`] borrows a contiguous run of bodies: `p`, `mV` and the carried force mutably, the
 //! ids, masses and radii shared. Splitting is by index, so the chunks of a parallel step are
 //! contiguous and their results are combined in chunk order.
 
-use crate::contact::{Event, StepFrame};
+use crate::contact::{Event, StepContext};
 use crate::integrate::Scheme;
 use crate::world::{BodyId, Vec3s, World};
 
@@ -38,7 +38,7 @@ impl World {
 }
 
 /// Mutable view of a contiguous run of bodies, the unit of work of one thread.
-pub(super) struct Lanes<'a> {
+pub(super) struct Chunk<'a> {
     /// Storage index of the first body.
     pub(super) offset: usize,
     pub(super) ids: &'a [BodyId],
@@ -76,21 +76,21 @@ pub(super) struct Fixed<'a> {
 }
 
 impl<'a> Fixed<'a> {
-    /// Lanes over these bodies with `p`, `mV` and (if `carries`) the carried force.
+    /// Chunk over these bodies with `p`, `mV` and (if `carries`) the carried force.
     #[inline]
-    pub(super) fn lanes(
+    pub(super) fn chunk(
         self,
         p: &'a mut Vec3s,
         mv: &'a mut Vec3s,
         carry: &'a mut Vec3s,
         carries: bool,
-    ) -> Lanes<'a> {
+    ) -> Chunk<'a> {
         let (cx, cy, cz): (&mut [f64], &mut [f64], &mut [f64]) = if carries {
             (&mut carry.x, &mut carry.y, &mut carry.z)
         } else {
             (&mut [], &mut [], &mut [])
         };
-        Lanes {
+        Chunk {
             offset: 0,
             ids: self.ids,
             px: &mut p.x,
@@ -114,16 +114,16 @@ pub(super) fn sub_mut(s: &mut [f64], start: usize, end: usize) -> &mut [f64] {
     if s.is_empty() { s } else { &mut s[start..end] }
 }
 
-impl<'a> Lanes<'a> {
+impl<'a> Chunk<'a> {
     #[inline]
     pub(super) fn len(&self) -> usize {
         self.ids.len()
     }
 
-    /// The bodies `start..end` of these lanes, borrowed.
+    /// The bodies `start..end` of these chunk, borrowed.
     #[inline]
-    pub(super) fn sub(&mut self, start: usize, end: usize) -> Lanes<'_> {
-        Lanes {
+    pub(super) fn sub(&mut self, start: usize, end: usize) -> Chunk<'_> {
+        Chunk {
             offset: self.offset + start,
             ids: &self.ids[start..end],
             px: &mut self.px[start..end],
@@ -141,9 +141,9 @@ impl<'a> Lanes<'a> {
         }
     }
 
-    /// Copies the written state (p, mV, carried force) of `from` into these lanes.
+    /// Copies the written state (p, mV, carried force) of `from` into these chunk.
     #[inline]
-    pub(super) fn copy_state(&mut self, from: &Lanes) {
+    pub(super) fn copy_state(&mut self, from: &Chunk) {
         self.px.copy_from_slice(from.px);
         self.py.copy_from_slice(from.py);
         self.pz.copy_from_slice(from.pz);
@@ -156,7 +156,7 @@ impl<'a> Lanes<'a> {
     }
 
     #[inline]
-    pub(super) fn split_at(self, mid: usize) -> (Lanes<'a>, Lanes<'a>) {
+    pub(super) fn split_at(self, mid: usize) -> (Chunk<'a>, Chunk<'a>) {
         let (ids0, ids1) = self.ids.split_at(mid);
         let (px0, px1) = self.px.split_at_mut(mid);
         let (py0, py1) = self.py.split_at_mut(mid);
@@ -171,7 +171,7 @@ impl<'a> Lanes<'a> {
         let (w0, w1) = self.inv_mass.split_at(mid);
         let (r0, r1) = self.radius.split_at(mid);
         (
-            Lanes {
+            Chunk {
                 offset: self.offset,
                 ids: ids0,
                 px: px0,
@@ -187,7 +187,7 @@ impl<'a> Lanes<'a> {
                 inv_mass: w0,
                 radius: r0,
             },
-            Lanes {
+            Chunk {
                 offset: self.offset + mid,
                 ids: ids1,
                 px: px1,
@@ -210,20 +210,20 @@ impl<'a> Lanes<'a> {
 /// Splits the bodies into `events.len()` chunks and runs them in parallel, combining in order.
 pub(super) fn split_run<S: Scheme, const CONTACTS: bool>(
     scheme: &S,
-    mut lanes: Lanes,
-    frame: &StepFrame,
+    mut chunk: Chunk,
+    ctx: &StepContext,
     events: &mut [Vec<Event>],
 ) -> KernelOut {
     if events.len() <= 1 {
-        return run::<S, CONTACTS>(scheme, &mut lanes, frame, &mut events[0]);
+        return run::<S, CONTACTS>(scheme, &mut chunk, ctx, &mut events[0]);
     }
     let half = events.len() / 2;
-    let mid = lanes.len() * half / events.len();
-    let (left, right) = lanes.split_at(mid);
+    let mid = chunk.len() * half / events.len();
+    let (left, right) = chunk.split_at(mid);
     let (ev_left, ev_right) = events.split_at_mut(half);
     let (a, b) = rayon::join(
-        || split_run::<S, CONTACTS>(scheme, left, frame, ev_left),
-        || split_run::<S, CONTACTS>(scheme, right, frame, ev_right),
+        || split_run::<S, CONTACTS>(scheme, left, ctx, ev_left),
+        || split_run::<S, CONTACTS>(scheme, right, ctx, ev_right),
     );
     a.then(b)
 }
