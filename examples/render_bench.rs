@@ -87,6 +87,7 @@ fn measure(
         markers: false,
         vectors: None,
         highlight: None,
+        judder: false,
     };
     let spheres_only = DrawOptions {
         trails: false,
@@ -105,8 +106,9 @@ fn measure(
         let lane = volley::render::Lane {
             world: &sim.world,
             history: &history,
-            alpha: 0.5,
+            at: volley::render::DrawAt::interpolated(0.5),
             colour: integrator_colour(sim.world.integrator()),
+            judder: &[],
         };
         let (time, prepared) = frame(gpu, renderer, target, lane, &view, &options);
         let (alone, _) = frame(gpu, renderer, target, lane, &view, &spheres_only);

@@ -647,8 +647,9 @@ impl Session {
             .map(|l| draw::Lane {
                 world: &l.sim.world,
                 history: &l.history,
-                alpha: l.sim.clock.alpha(),
+                at: crate::render::DrawAt::interpolated(l.sim.clock.alpha()),
                 colour: l.colour(),
+                judder: &[],
             })
             .collect()
     }

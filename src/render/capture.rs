@@ -280,6 +280,7 @@ impl FrameWriter {
                 markers: false,
                 vectors: None,
                 highlight: None,
+                judder: false,
             },
             renderer,
             target,
@@ -306,8 +307,9 @@ impl FrameWriter {
         let lane = Lane {
             world,
             history: &self.history,
-            alpha: 1.0,
+            at: crate::render::history::DrawAt::interpolated(1.0),
             colour: integrator_colour(world.integrator()),
+            judder: &[],
         };
         self.renderer
             .render(&self.gpu, self.target.view(), &[lane], &view, &self.options);

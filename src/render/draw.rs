@@ -9,7 +9,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 
 use crate::integrate::Integrator;
-use crate::render::history::TickHistory;
+use crate::render::history::{DrawAt, TickHistory};
 use crate::scene::Launcher;
 use crate::world::World;
 
@@ -63,10 +63,24 @@ pub struct Lane<'a> {
     pub world: &'a World,
     /// Its previous state, trails and references.
     pub history: &'a TickHistory,
-    /// The loop's alpha: how far from the previous tick towards the current one to draw.
-    pub alpha: f64,
+    /// Where between (or past) its ticks to draw: the draw mode, the loop's alpha, the lead.
+    pub at: DrawAt,
     /// Colour of its bodies and trails.
     pub colour: Rgba,
+    /// The judder ghosts of its measured body, oldest first (empty for none).
+    pub judder: &'a [JudderMark],
+}
+
+/// One displayed frame of a body, for the judder ghosts: where the frame drew it, and where
+/// the exact solution had it at the frame's display time (where the scene has a closed form).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JudderMark {
+    /// The drawn position (m).
+    pub drawn: DVec3,
+    /// The exact position at the frame's display time (m), if known.
+    pub exact: Option<DVec3>,
+    /// The body's radius (m): the ghosts are drawn at a fraction of it.
+    pub radius: f64,
 }
 
 /// What to draw besides the bodies.
@@ -90,6 +104,8 @@ pub struct DrawOptions {
     pub vectors: Option<ArrowScale>,
     /// A point to ring (the probe's): a larger translucent white sphere there.
     pub highlight: Option<DVec3>,
+    /// The judder ghosts of each lane's measured body ([`Lane::judder`]).
+    pub judder: bool,
 }
 
 /// How long the arrows are drawn: metres of arrow per m/s of velocity and per newton of force.
@@ -134,6 +150,10 @@ pub const APEX: Rgba = [250, 250, 255, 255];
 pub const IMPACT: Rgba = [255, 220, 60, 255];
 /// Colour of net-force arrows.
 pub const FORCE: Rgba = [255, 90, 200, 255];
+/// Colour of the judder ghosts' drawn positions (spheres): cyan, apart from every lane colour.
+pub const JUDDER_DRAWN: Rgba = [60, 230, 255, 255];
+/// Colour of the judder ghosts' exact positions (crosses).
+pub const JUDDER_EXACT: Rgba = [255, 255, 255, 255];
 
 /// The arrays of one frame; kept between frames so their allocations are reused.
 #[derive(Clone, Debug, Default)]
@@ -170,7 +190,7 @@ impl DrawList {
             let radii = bodies.radii();
             let solid = &mut self.solid;
             solid.reserve(bodies.len());
-            lane.history.interpolate(lane.world, lane.alpha, |i, p| {
+            lane.history.drawn(lane.world, lane.at, |i, p| {
                 solid.push(SphereInstance {
                     center: rel(p, options.origin),
                     radius: radii[i] as f32,
@@ -187,6 +207,9 @@ impl DrawList {
             }
             if let Some(scale) = options.vectors {
                 self.vectors(lane, scale, options);
+            }
+            if options.judder {
+                self.judder(lane, options);
             }
         }
         if let Some(p) = options.highlight {
@@ -220,6 +243,39 @@ impl DrawList {
                     colour,
                 });
             }
+        }
+    }
+
+    /// The judder ghosts: each recent frame's drawn position as a small cyan sphere, fading
+    /// with age, and the exact position at its display time as a white cross,
+    /// joined by a faint line (the frame's display error). Even spacing of the spheres is
+    /// smooth motion; uneven spacing, or spheres off their crosses by varying amounts, is
+    /// judder.
+    fn judder(&mut self, lane: &Lane<'_>, options: &DrawOptions) {
+        let o = options.origin;
+        let n = lane.judder.len();
+        for (k, mark) in lane.judder.iter().enumerate() {
+            // Small beside the body, so a frame's step to the next shows (at least 0.2 % of
+            // the scene, to be seen at all).
+            let radius = (0.35 * mark.radius).max(0.002 * options.scale);
+            // The newest opaque, the oldest a third.
+            let fade = 0.33 + 0.67 * (k + 1) as f32 / n as f32;
+            let a = (255.0 * fade) as u8;
+            let [r, g, b, _] = JUDDER_DRAWN;
+            self.translucent.push(SphereInstance {
+                center: rel(mark.drawn, o),
+                radius: radius as f32,
+                colour: [r, g, b, a],
+            });
+            let Some(x) = mark.exact else {
+                continue;
+            };
+            let [r, g, b, _] = JUDDER_EXACT;
+            let arm = 2.0 * radius;
+            for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+                self.line(x - arm * axis, x + arm * axis, [r, g, b, a], o);
+            }
+            self.line(mark.drawn, x, [r, g, b, a / 2], o);
         }
     }
 
@@ -310,7 +366,7 @@ impl DrawList {
         let world = lane.world;
         let dt = world.dt();
         let floor = world.contacts().ground.map(|g| g.height);
-        let drawn = lane.history.drawn_ticks(world, lane.alpha);
+        let drawn = lane.history.drawn_ticks(world, lane.at);
         let mut points = std::mem::take(&mut self.scratch);
         let bodies = world.bodies();
         for &id in bodies.ids().iter().take(GHOST_BODIES) {
@@ -448,8 +504,9 @@ mod tests {
         let lane = Lane {
             world: &world,
             history: &history,
-            alpha: 1.0,
+            at: DrawAt::interpolated(1.0),
             colour: GHOST,
+            judder: &[],
         };
         let mut options = DrawOptions {
             origin: DVec3::ZERO,
@@ -460,6 +517,7 @@ mod tests {
             markers: false,
             vectors: None,
             highlight: None,
+            judder: false,
         };
         let mut list = DrawList::default();
         list.build(&[lane], &options);

@@ -7,11 +7,16 @@
 //! `previous + alpha (current - previous)` stays right however many ticks one frame ran. A body
 //! that did not exist at the snapshot (spawned by a command in the last tick) has no previous
 //! position and is drawn at its current one.
+//!
+//! Interpolation is one of the loop lab's draw modes ([`DrawMode`]): [`TickHistory::drawn`]
+//! places bodies under any of them, [`DrawAt`] saying which and where (the current tick, between
+//! the last two, or past the current one by the velocity), as the lab's measurement does.
 
 use glam::DVec3;
 
 use crate::command::Stamped;
 use crate::contact::EventKind;
+use crate::pacing::DrawMode;
 use crate::render::probe::ProbeHistory;
 use crate::render::reference::References;
 use crate::render::series::LaneSeries;
@@ -201,33 +206,106 @@ impl TickHistory {
 
     /// Calls `visit(i, position)` for every body `i` of `world` (storage order) with its drawn
     /// position: `previous + alpha (current - previous)`, or the current position for a body
-    /// the snapshot does not hold. Ids are sorted in both, so one merge pass pairs them.
-    pub fn interpolate(&self, world: &World, alpha: f64, mut visit: impl FnMut(usize, DVec3)) {
+    /// the snapshot does not hold. [`TickHistory::drawn`] with [`DrawMode::Interpolate`].
+    pub fn interpolate(&self, world: &World, alpha: f64, visit: impl FnMut(usize, DVec3)) {
+        self.drawn(world, DrawAt::interpolated(alpha), visit);
+    }
+
+    /// Calls `visit(i, position)` for every body `i` of `world` (storage order) with its drawn
+    /// position under `at`: [`DrawMode::position`] from the snapshot's position (the current
+    /// one for a body the snapshot does not hold), the current position and the current
+    /// velocity (momentum / mass). Ids are sorted in both, so one merge pass pairs them.
+    pub fn drawn(&self, world: &World, at: DrawAt, mut visit: impl FnMut(usize, DVec3)) {
         let bodies = world.bodies();
         let current = bodies.positions();
         let prev = &self.previous;
+        let dt = world.dt();
         let mut j = 0;
         for (i, &id) in bodies.ids().iter().enumerate() {
             while j < prev.ids.len() && prev.ids[j] < id {
                 j += 1;
             }
             let now = current.get(i);
-            let drawn = match prev.ids.get(j) {
-                Some(&p) if p == id => {
-                    let before = prev.positions[j];
-                    before + alpha * (now - before)
-                }
+            let before = match prev.ids.get(j) {
+                Some(&p) if p == id => prev.positions[j],
                 _ => now,
             };
-            visit(i, drawn);
+            let v = match at.mode {
+                DrawMode::Extrapolate | DrawMode::Predict => bodies.velocity(i),
+                DrawMode::Current | DrawMode::Interpolate => DVec3::ZERO,
+            };
+            visit(i, at.mode.position(before, now, v, at.alpha, dt, at.lead));
         }
     }
 
-    /// The sim time (s since tick 0) that a frame drawn at `alpha` shows: between the snapshot's
-    /// tick and the current one.
-    pub fn drawn_ticks(&self, world: &World, alpha: f64) -> f64 {
-        let (before, now) = (self.previous.tick as f64, world.tick() as f64);
-        before + alpha * (now - before)
+    /// The drawn position of the body at storage index `i` under `at` (what
+    /// [`TickHistory::drawn`] gives it), if there is such a body.
+    pub fn drawn_one(&self, world: &World, i: usize, at: DrawAt) -> Option<DVec3> {
+        let bodies = world.bodies();
+        let id = *bodies.ids().get(i)?;
+        let now = bodies.positions().get(i);
+        let before = match self.previous.ids.binary_search(&id) {
+            Ok(j) => self.previous.positions[j],
+            Err(_) => now,
+        };
+        let v = bodies.velocity(i);
+        Some(
+            at.mode
+                .position(before, now, v, at.alpha, world.dt(), at.lead),
+        )
+    }
+
+    /// The sim time in ticks since tick 0 that a frame drawn at `at` shows: between the
+    /// snapshot's tick and the current one when interpolating, else the current tick plus the
+    /// draw mode's offset.
+    pub fn drawn_ticks(&self, world: &World, at: DrawAt) -> f64 {
+        let now = world.tick() as f64;
+        match at.mode {
+            DrawMode::Interpolate => {
+                let before = self.previous.tick as f64;
+                before + at.alpha * (now - before)
+            }
+            mode => now + mode.offset(at.alpha, world.dt(), at.lead) / world.dt(),
+        }
+    }
+}
+
+/// Where a frame is drawn between (or past) the ticks: the draw mode, the clock's alpha, and
+/// for [`DrawMode::Predict`] the time predicted to the present.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrawAt {
+    /// The draw mode.
+    pub mode: DrawMode,
+    /// The clock's fraction of a tick in the accumulator, in [0, 1).
+    pub alpha: f64,
+    /// How far after the frame's sample it is expected on screen, in sim seconds (the median
+    /// of the last frame deltas times the time scale; 0 while paused). Only
+    /// [`DrawMode::Predict`] uses it.
+    pub lead: f64,
+}
+
+impl DrawAt {
+    /// Interpolation at `alpha`: the window's draw before the loop lab, and what a headless
+    /// `--frames` run and the golden image draw.
+    pub fn interpolated(alpha: f64) -> DrawAt {
+        DrawAt {
+            mode: DrawMode::Interpolate,
+            alpha,
+            lead: 0.0,
+        }
+    }
+
+    /// The fraction along a trail's newest segment (from the tick before to the current one)
+    /// where the drawn body is: alpha when interpolating, 1 at the current tick, past 1 by the
+    /// offset in ticks when extrapolating (along the segment, so the trail meets the sphere to
+    /// within the path's curvature over the offset).
+    pub fn trail_alpha(&self, dt: f64) -> f64 {
+        match self.mode {
+            DrawMode::Interpolate => self.alpha,
+            DrawMode::Current => 1.0,
+            mode if dt > 0.0 => 1.0 + mode.offset(self.alpha, dt, self.lead) / dt,
+            _ => 1.0,
+        }
     }
 }
 

@@ -231,7 +231,8 @@ impl Renderer {
                 let t = self.new_trail(gpu);
                 self.trails.push(t);
             }
-            self.upload_trail(gpu, k, &lane.history.trails, lane.alpha, lane.colour);
+            let alpha = lane.at.trail_alpha(lane.world.dt());
+            self.upload_trail(gpu, k, &lane.history.trails, alpha, lane.colour);
             self.trails[k].slots = slots(lane);
         }
         self.ensure_depth(gpu, view.target_size);

@@ -32,8 +32,9 @@ fn draw(
     let lane = Lane {
         world,
         history,
-        alpha: 1.0,
+        at: volley::render::DrawAt::interpolated(1.0),
         colour: integrator_colour(world.integrator()),
+        judder: &[],
     };
     renderer.render(gpu, target.view(), &[lane], &view, options);
     target.read(gpu).expect("the frame reads back")
@@ -87,6 +88,7 @@ fn the_seed_scene_at_tick_10_matches_its_golden_image() {
         markers: false,
         vectors: None,
         highlight: None,
+        judder: false,
     };
     let camera = OrbitCamera::framing(&bounds, 480.0 / 270.0);
     let image = draw(&gpu, &sim.world, &history, camera, &options, size);
@@ -155,6 +157,7 @@ fn a_body_at_a_known_world_position_lands_on_the_expected_pixel() {
         markers: false,
         vectors: None,
         highlight: None,
+        judder: false,
     };
     let size = (200, 100);
     let image = draw(
@@ -243,6 +246,7 @@ fn frames_reuse_their_buffers_and_draw_every_lane_in_one_instance_list() {
         markers: false,
         vectors: None,
         highlight: None,
+        judder: false,
     };
     let mut allocations = Vec::new();
     for tick in 1..=20 {
@@ -255,8 +259,9 @@ fn frames_reuse_their_buffers_and_draw_every_lane_in_one_instance_list() {
             .map(|(sim, history)| Lane {
                 world: &sim.world,
                 history,
-                alpha: 1.0,
+                at: volley::render::DrawAt::interpolated(1.0),
                 colour: integrator_colour(sim.world.integrator()),
+                judder: &[],
             })
             .collect();
         renderer.render(&gpu, target.view(), &lanes, &view, &options);

@@ -105,8 +105,9 @@ fn arrows_are_the_velocity_and_the_net_force_to_the_stated_scale() {
     let lane = Lane {
         world,
         history: &s.lanes()[0].history,
-        alpha: 1.0,
+        at: volley::render::DrawAt::interpolated(1.0),
         colour: [255, 0, 0, 255],
+        judder: &[],
     };
     let scale = ArrowScale::of(world, 40.0);
     // 8 % of 40 m over 30 m/s is 0.107 m per m/s: 0.1 after rounding down to 1, 2 or 5.
@@ -120,6 +121,7 @@ fn arrows_are_the_velocity_and_the_net_force_to_the_stated_scale() {
         markers: false,
         vectors,
         highlight: None,
+        judder: false,
     };
     let (mut without, mut with) = (DrawList::default(), DrawList::default());
     without.build(&[lane], &options(None));
