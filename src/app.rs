@@ -14,6 +14,7 @@
 //! ([`panel`]).
 
 mod control;
+pub mod display;
 mod frame;
 pub mod input;
 pub mod panel;
@@ -33,10 +34,12 @@ use winit::event::{MouseButton, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::window::{Window, WindowId};
 
-use crate::clock::{FrameSource, RealClock, VirtualClock};
+use crate::clock::LoopPolicy;
 use crate::integrate::Integrator;
+use crate::pacing::DrawMode;
 use crate::render::{GpuError, OrbitCamera, Viewport};
 use crate::scene::Scene;
+use display::{EmulatedDisplay, Frames};
 use frame::viewport_of;
 pub use input::Action;
 use panel::{FrameStats, PanelState};
@@ -84,6 +87,14 @@ pub struct WindowOptions {
     pub history_budget: usize,
     /// Ticks every lane runs before the window opens (`--warm-up-ticks`).
     pub warm_up_ticks: u64,
+    /// Emulate this display (`--display`): its frame deltas drive the loop, its display times
+    /// are measured against (instead of `frame_rate` or the real clock).
+    pub display: Option<EmulatedDisplay>,
+    /// The loop policy every lane starts with (`--policy`); [`crate::pacing::DEFAULT_POLICY`]
+    /// by default. A snapping or quantising policy is given the display's refresh.
+    pub policy: LoopPolicy,
+    /// How every lane is drawn at start (`--draw`); [`crate::pacing::DEFAULT_DRAW`] by default.
+    pub draw: DrawMode,
 }
 
 /// Why the window could not run.
@@ -143,6 +154,9 @@ pub struct RunSummary {
     pub lanes: Vec<LaneReport>,
     /// What the probe read when the window closed, if it was on something.
     pub probe: Option<Vec<String>>,
+    /// The loop as the window closed: policy, draw mode, frames, cadence, swings and the
+    /// measured body's display error ([`session::pacing`]).
+    pub pacing: String,
 }
 
 /// A lane as the window closed.
@@ -261,6 +275,7 @@ pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummar
         recordings: app.session.recordings().to_vec(),
         replay: app.session.replay_verdict(),
         probe: app.probe.as_ref().map(|p| p.lines()),
+        pacing: app.pacing_line(),
         lanes: app
             .session
             .lanes()
@@ -314,11 +329,16 @@ struct Pointer {
 #[derive(Clone, Copy, Debug)]
 struct Toggles {
     trails: bool,
+    /// The closed-form ghosts: dashed trajectories and the sphere where the exact solution is.
     ghosts: bool,
     panel: bool,
     plots: bool,
     markers: bool,
     vectors: bool,
+    /// The pacing view beside the plots.
+    pacing: bool,
+    /// The judder ghosts: the measured body's last drawn positions beside the exact ones.
+    judder: bool,
 }
 
 struct App {
@@ -330,7 +350,7 @@ struct App {
     needs_framing: bool,
     toggles: Toggles,
     pointer: Pointer,
-    source: Box<dyn FrameSource>,
+    frames: Frames,
     watch: Option<SceneWatch>,
     window: Option<Arc<Window>>,
     gfx: Option<WindowGpu>,
@@ -374,12 +394,21 @@ impl App {
         }
         session.set_paused(options.paused);
         session.set_time_scale(options.time_scale);
-        let panel = PanelState::new(&session, options.scenes.clone());
-        let script = script::Player::new(options.script.clone());
-        let source: Box<dyn FrameSource> = match options.frame_rate {
-            Some(hz) => Box::new(VirtualClock::display(hz)),
-            None => Box::new(RealClock::new()),
+        session.set_policy(options.policy);
+        session.set_refresh(match (&options.display, options.frame_rate) {
+            (Some(d), _) => d.refresh,
+            (None, Some(hz)) => display::believed_refresh(hz),
+            (None, None) => display::DEFAULT_REFRESH,
+        });
+        session.set_draw_mode(options.draw);
+        let mut panel = PanelState::new(&session, options.scenes.clone());
+        panel.frames_note = match (&options.display, options.frame_rate) {
+            (Some(d), _) => format!("display {} (virtual frames)", d.name),
+            (None, Some(hz)) => format!("steady {hz} Hz frames"),
+            (None, None) => "the real clock".into(),
         };
+        let script = script::Player::new(options.script.clone());
+        let frames = Frames::of(options.display.as_ref(), options.frame_rate);
         let mut app = App {
             camera: OrbitCamera::framing(session.bounds(), 16.0 / 9.0),
             session,
@@ -393,9 +422,11 @@ impl App {
                 plots: true,
                 markers: true,
                 vectors: false,
+                pacing: false,
+                judder: false,
             },
             pointer: Pointer::default(),
-            source,
+            frames,
             watch: None,
             window: None,
             gfx: None,
@@ -501,6 +532,16 @@ impl App {
                 Arc::new(window)
             }
         };
+        // On the real clock the game believes in the monitor's refresh, where it reports one.
+        let monitor_hz = window
+            .current_monitor()
+            .and_then(|m| m.refresh_rate_millihertz())
+            .map(|mhz| f64::from(mhz) / 1e3);
+        if let (Frames::Clock(_), None, Some(hz)) =
+            (&self.frames, self.options.frame_rate, monitor_hz)
+        {
+            self.session.set_refresh(display::believed_refresh(hz));
+        }
         let gfx = WindowGpu::new(event_loop, window.clone()).map_err(AppError::Gpu)?;
         self.stats.adapter = gfx.gpu.describe();
         if self.egui_state.is_some() {
@@ -536,9 +577,9 @@ impl App {
         for action in self.script.due() {
             self.apply(action);
         }
-        let delta = self.source.next_delta();
+        let frame = self.frames.next_frame();
         self.check_reload(start);
-        self.session.frame(delta);
+        self.session.frame_shown(frame.delta, frame.shown);
         if self.session.lanes().iter().all(|l| l.pending() == 0) {
             let (dt_ms, substeps) = (self.panel.dt_ms, self.panel.substeps);
             let pick = self.panel.compare_pick.clone();
@@ -577,6 +618,9 @@ impl App {
         let mut rest = egui::Rect::NOTHING;
         let show_panel = self.toggles.panel;
         let show_plots = self.toggles.plots;
+        let show_pacing = self.toggles.pacing;
+        self.panel.pacing_view = show_pacing;
+        self.panel.judder_ghosts = self.toggles.judder;
         let output = self.egui.run_ui(raw, |ui| {
             if show_panel {
                 egui::Panel::left("panel")
@@ -591,14 +635,18 @@ impl App {
                         )
                     });
             }
-            if show_plots {
+            if show_plots || show_pacing {
                 egui::Panel::bottom("plots")
                     .resizable(true)
                     .default_size(240.0)
                     .min_size(190.0)
                     .show(ui, |ui| {
                         let tab = &mut self.panel.plot_tab;
-                        panel::plots::show(ui, &self.session, tab, &mut actions)
+                        let shown = panel::plots::BottomPanel {
+                            plots: show_plots,
+                            pacing: show_pacing,
+                        };
+                        panel::plots::show(ui, &self.session, tab, shown, &mut actions)
                     });
             }
             rest = ui.available_rect_before_wrap();
@@ -675,6 +723,32 @@ impl App {
         self.stats.size = (size.width, size.height);
         self.stats.scale = window.scale_factor();
         self.last_frame = start;
+    }
+
+    /// The closing summary's pacing line.
+    fn pacing_line(&self) -> String {
+        let s = &self.session;
+        let log = s.pacing();
+        let mode = s.draw_mode();
+        let when = if log.display_times {
+            "at display time"
+        } else {
+            "at the frames' samples"
+        };
+        let error = match (log.median_error(mode, f64::INFINITY), &log.note) {
+            (Some(e), _) => format!("median display error {:.4} mm {when}", e * 1e3),
+            (None, Some(why)) => format!("no display error: {why}"),
+            (None, None) => "no display error".into(),
+        };
+        format!(
+            "pacing: {} + {} on {}, body {}, ticks/frame {}, 0-2 swings {}, {error}",
+            s.policy().name(),
+            mode.name(),
+            self.panel.frames_note,
+            log.body,
+            log.cadence(),
+            log.swings(),
+        )
     }
 
     fn visible(&self) -> bool {

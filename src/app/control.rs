@@ -83,6 +83,11 @@ impl App {
             Action::TogglePlots => self.toggles.plots = !self.toggles.plots,
             Action::ToggleMarkers => self.toggles.markers = !self.toggles.markers,
             Action::ToggleVectors => self.toggles.vectors = !self.toggles.vectors,
+            Action::SetPolicy(name) => s.set_policy_named(&name),
+            Action::SetDrawMode(mode) => s.set_draw_mode(mode),
+            Action::TogglePacing => self.toggles.pacing = !self.toggles.pacing,
+            Action::ToggleJudder => self.toggles.judder = !self.toggles.judder,
+            Action::SetPacingBody(i) => s.set_pacing_body(i),
             Action::HoverBody(n) => {
                 let at = super::pick::body_on_screen(s, &self.camera, &self.viewport, n);
                 self.hover_script(at, format!("hover body {n}"));

@@ -101,7 +101,7 @@ impl App {
                 crate::render::draw::ArrowScale::of(self.session.world(), bounds.radius())
             }),
             highlight: ring.or(self.probe.as_ref().map(|p| p.at.p)),
-            judder: false,
+            judder: self.toggles.judder,
         };
         let view = View {
             camera: self.camera,

@@ -94,6 +94,17 @@ pub enum Action {
     ToggleMarkers,
     /// Show or hide the velocity and force arrows on the first bodies.
     ToggleVectors,
+    /// Every lane's loop policy, by name ([`crate::clock::LoopPolicy::NAMES`]), from the next
+    /// frame.
+    SetPolicy(String),
+    /// How every lane is drawn, from the next frame.
+    SetDrawMode(crate::pacing::DrawMode),
+    /// Show or hide the pacing view beside the plots.
+    TogglePacing,
+    /// Show or hide the judder ghosts.
+    ToggleJudder,
+    /// Measure this body (storage index in the first lane) in the pacing view.
+    SetPacingBody(usize),
     /// Put the pointer on lane 0's body N (input scripts: `hover body N`).
     HoverBody(usize),
     /// Put the pointer on lane 0's body 0's last marker of a kind (`hover marker KIND`).

@@ -4,6 +4,7 @@
 //! replay runs, the controls that would change the simulation are greyed out.
 
 mod alerts;
+pub mod pacing;
 pub mod plots;
 mod record;
 
@@ -74,6 +75,12 @@ pub struct PanelState {
     pub file_note: Option<(String, bool)>,
     /// Bundled scenes, (name, path).
     pub scenes: Vec<(String, PathBuf)>,
+    /// Where the frames come from (an emulated display, steady frames, the real clock).
+    pub frames_note: String,
+    /// Whether the pacing view is shown (the window's toggle, for the panel to say).
+    pub pacing_view: bool,
+    /// Whether the judder ghosts are shown.
+    pub judder_ghosts: bool,
 }
 
 impl PanelState {
@@ -95,6 +102,9 @@ impl PanelState {
             plot_tab: 0,
             file_note: None,
             scenes,
+            frames_note: "the real clock".into(),
+            pacing_view: false,
+            judder_ghosts: false,
         };
         state.sync(session);
         state
@@ -177,6 +187,8 @@ pub fn show(
         let live = session.replay().is_none();
         clock(ui, state, session, out);
         timeline(ui, session, out);
+        ui.separator();
+        pacing::controls(ui, state, session, out);
         ui.separator();
         ui.add_enabled_ui(live, |ui| simulation(ui, state, session, out));
         ui.separator();

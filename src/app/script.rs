@@ -17,6 +17,8 @@
 //! drag target 0 -30 0  # target 0 moved 30 px left (the scene restarts with it)
 //! click Aim: high arc  # click the panel's button with this label (its centre)
 //! click 700 300        # click at a position (logical points): on the 3D view it pins the probe
+//! policy snap          # the loop policy (accumulator, snap, snap-avg, quantise, hysteresis)
+//! draw interpolate     # the draw mode (current, interpolate, extrapolate, predict)
 //! ```
 //!
 //! A key goes through the same mapping as a real key press ([`input::action_for_key`]), so a
@@ -26,6 +28,8 @@
 use winit::keyboard::{Key, NamedKey};
 
 use crate::app::input::{self, Action, ClickAt};
+use crate::clock::LoopPolicy;
+use crate::pacing::DrawMode;
 
 /// One step of a script.
 #[derive(Clone, Debug, PartialEq)]
@@ -186,7 +190,29 @@ pub fn parse(text: &str, file: &str) -> Result<Vec<Step>, ScriptError> {
                     }
                 }
             }
-            ("wait" | "key", None) => {
+            ("policy", Some(name)) => match LoopPolicy::NAMES.iter().find(|n| **n == name) {
+                Some(n) => Step::Key(Action::SetPolicy((*n).to_string()), format!("policy {n}")),
+                None => {
+                    return Err(error(
+                        name,
+                        format!(
+                            "policy: expected one of {}, got `{name}`",
+                            LoopPolicy::NAMES.join(", ")
+                        ),
+                    ));
+                }
+            },
+            ("draw", Some(name)) => match DrawMode::parse(name) {
+                Some(m) => Step::Key(Action::SetDrawMode(m), format!("draw {name}")),
+                None => {
+                    let names: Vec<&str> = DrawMode::ALL.iter().map(|m| m.name()).collect();
+                    return Err(error(
+                        name,
+                        format!("draw: expected one of {}, got `{name}`", names.join(", ")),
+                    ));
+                }
+            },
+            ("wait" | "key" | "policy" | "draw", None) => {
                 return Err(error(verb, format!("`{verb}` needs an argument")));
             }
             _ => {
@@ -194,7 +220,8 @@ pub fn parse(text: &str, file: &str) -> Result<Vec<Step>, ScriptError> {
                     verb,
                     format!(
                         "expected `wait N`, `key NAME`, `hover body N`, `hover marker KIND`, \
-                         `pin` or `drag ...`, got `{verb}`"
+                         `pin`, `drag ...`, `click ...`, `policy NAME` or `draw MODE`, got \
+                         `{verb}`"
                     ),
                 ));
             }
@@ -382,6 +409,33 @@ mod tests {
                 .unwrap_err()
                 .message
                 .contains("needs `X Y`")
+        );
+        let e = parse("wait 1\npolicy fastest\n", "s").unwrap_err();
+        assert_eq!((e.line, e.column), (2, 8), "{e}");
+        assert!(
+            e.message
+                .starts_with("policy: expected one of accumulator, snap"),
+            "{e}"
+        );
+        let e = parse("draw sideways", "s").unwrap_err();
+        assert_eq!(e.column, 6, "{e}");
+        assert!(
+            e.message
+                .contains("current, interpolate, extrapolate, predict"),
+            "{e}"
+        );
+        assert_eq!(
+            parse("policy snap-avg\ndraw current", "s").unwrap(),
+            [
+                Step::Key(
+                    Action::SetPolicy("snap-avg".into()),
+                    "policy snap-avg".into()
+                ),
+                Step::Key(
+                    Action::SetDrawMode(DrawMode::Current),
+                    "draw current".into()
+                ),
+            ]
         );
         let steps = parse("click Aim: high arc\nclick 10 20.5\n", "s").unwrap();
         let click = |at| Step::Key(Action::Click(at), "click".into());

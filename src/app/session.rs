@@ -20,6 +20,7 @@
 //! change.
 
 mod lane;
+pub mod pacing;
 pub mod recording;
 pub mod replaying;
 mod rewind;
@@ -28,11 +29,13 @@ mod setup;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use crate::clock::FrameTicks;
+use crate::app::display::{DEFAULT_REFRESH, Shown};
+use crate::clock::{FrameTicks, LoopPolicy};
 use crate::command::Command;
 use crate::integrate::Integrator;
-use crate::render::SceneBounds;
+use crate::pacing::DrawMode;
 use crate::render::draw;
+use crate::render::{DrawAt, SceneBounds};
 use crate::replay::ReplayError;
 use crate::scene::{CompareLane, Scene, check_integrator};
 use crate::sim_loop::{LoopError, SimLoop};
@@ -77,6 +80,8 @@ fn aim_lane(
 struct ClockSettings {
     paused: bool,
     time_scale: f64,
+    /// The loop policy of every lane's clock.
+    policy: LoopPolicy,
 }
 
 /// The scene, its lanes, and the clock settings they share.
@@ -115,6 +120,12 @@ pub struct Session {
     pub timeline_note: Option<String>,
     /// Where the last "Save plots" or "Save setup" wrote, or why it could not.
     pub saved_note: Option<String>,
+    /// How every lane is drawn between (or past) its ticks.
+    draw: DrawMode,
+    /// The refresh interval the snapping and quantising policies are given.
+    refresh: Duration,
+    /// The first lane's last frames, for the pacing view and the judder ghosts.
+    pacing: pacing::PacingLog,
 }
 
 impl Session {
@@ -145,6 +156,7 @@ impl Session {
             clock: ClockSettings {
                 paused: false,
                 time_scale: 1.0,
+                policy: crate::pacing::DEFAULT_POLICY.with_refresh(DEFAULT_REFRESH),
             },
             last: FrameTicks::default(),
             threads,
@@ -161,6 +173,9 @@ impl Session {
             reverse: None,
             timeline_note: None,
             saved_note: None,
+            draw: crate::pacing::DEFAULT_DRAW,
+            refresh: DEFAULT_REFRESH,
+            pacing: pacing::PacingLog::default(),
         };
         session.build_lanes();
         session
@@ -230,6 +245,7 @@ impl Session {
             self.build_lanes();
         }
         self.last = FrameTicks::default();
+        self.pacing.rebase();
     }
 
     /// Applies the shared clock settings (pause, time scale) to a new lane's clock.
@@ -238,13 +254,34 @@ impl Session {
             sim.clock.pause();
         }
         let _ = sim.clock.set_time_scale(self.clock.time_scale);
+        sim.clock.set_policy(self.clock.policy);
     }
 
     /// One frame: every running lane advances its clock by `delta` and runs the ticks it grants
     /// (the first lane through its recorder or its replay, when it has one). A lane that
     /// diverges stops and pauses every clock; a recording of the first lane ends with its
-    /// divergence.
+    /// divergence. The frame's display time is not known ([`Session::frame_shown`]).
     pub fn frame(&mut self, delta: Duration) {
+        self.frame_shown(delta, Shown::Unknown);
+    }
+
+    /// [`Session::frame`] for a frame shown at `shown`: the pacing log measures what it drew
+    /// against the exact motion then.
+    pub fn frame_shown(&mut self, delta: Duration, shown: Shown) {
+        let input = pacing::FrameInput {
+            delta,
+            shown,
+            tick_before: self.lanes[0].sim.world.tick(),
+            paused: self.clock.paused,
+            reversing: self.reverse.is_some(),
+            time_scale: self.clock.time_scale,
+            draw: self.draw,
+        };
+        self.advance(delta);
+        self.pacing.record(&self.lanes[0], input);
+    }
+
+    fn advance(&mut self, delta: Duration) {
         if self.reverse_frame(delta) {
             self.last = FrameTicks::default();
             return;
@@ -644,13 +681,80 @@ impl Session {
     pub fn draw_lanes(&self) -> Vec<draw::Lane<'_>> {
         self.lanes
             .iter()
-            .map(|l| draw::Lane {
+            .enumerate()
+            .map(|(k, l)| draw::Lane {
                 world: &l.sim.world,
                 history: &l.history,
-                at: crate::render::DrawAt::interpolated(l.sim.clock.alpha()),
+                at: DrawAt {
+                    mode: self.draw,
+                    alpha: l.sim.clock.alpha(),
+                    lead: self.pacing.lead(),
+                },
                 colour: l.colour(),
-                judder: &[],
+                // The pacing log measures the first lane.
+                judder: if k == 0 { self.pacing.judder() } else { &[] },
             })
             .collect()
+    }
+
+    /// Every lane's loop policy.
+    pub fn policy(&self) -> LoopPolicy {
+        self.clock.policy
+    }
+
+    /// Gives every lane `policy` from the next frame (what the old one carried from frame to
+    /// frame is forgotten; the accumulator and the tick stay). A policy decides how many ticks
+    /// a frame runs, never what a tick computes, so it is not a command: a recording is the
+    /// same under any.
+    pub fn set_policy(&mut self, policy: LoopPolicy) {
+        self.clock.policy = policy;
+        for lane in &mut self.lanes {
+            lane.sim.clock.set_policy(policy);
+        }
+    }
+
+    /// [`Session::set_policy`] by name ([`LoopPolicy::NAMES`]), with the session's refresh.
+    pub fn set_policy_named(&mut self, name: &str) {
+        match LoopPolicy::from_name(name, self.refresh) {
+            Some(p) => self.set_policy(p),
+            None => {
+                self.last_error = Some(format!(
+                    "loop policy: unknown `{name}`, expected one of {}",
+                    LoopPolicy::NAMES.join(", ")
+                ));
+            }
+        }
+    }
+
+    /// The refresh interval the snapping and quantising policies are given.
+    pub fn refresh(&self) -> Duration {
+        self.refresh
+    }
+
+    /// Sets the refresh interval the game believes in (the emulated display's, or the
+    /// monitor's); the policy in use takes it.
+    pub fn set_refresh(&mut self, refresh: Duration) {
+        self.refresh = refresh;
+        self.set_policy(self.clock.policy.with_refresh(refresh));
+    }
+
+    /// How every lane is drawn.
+    pub fn draw_mode(&self) -> DrawMode {
+        self.draw
+    }
+
+    /// Draws every lane with `mode` from the next frame.
+    pub fn set_draw_mode(&mut self, mode: DrawMode) {
+        self.draw = mode;
+    }
+
+    /// The first lane's last frames.
+    pub fn pacing(&self) -> &pacing::PacingLog {
+        &self.pacing
+    }
+
+    /// Measures body `i` (storage index in the first lane) in the pacing view.
+    pub fn set_pacing_body(&mut self, i: usize) {
+        self.pacing.body = i;
     }
 }

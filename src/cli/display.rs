@@ -5,7 +5,10 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use volley::app::display::{EmulatedDisplay, believed_refresh};
 use volley::app::{AppError, RunSummary, WindowOptions};
+use volley::clock::LoopPolicy;
+use volley::pacing::{DisplayModel, DrawMode};
 
 use super::{EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail};
 
@@ -60,6 +63,19 @@ pub struct DisplayArgs {
     /// scripts") from the first frame.
     #[arg(long, value_name = "FILE")]
     pub script: Option<PathBuf>,
+    /// Emulate a display: a model (60, 59.94, 120, 144, 165, 240, 60-misses, vrr-144,
+    /// 60-hitch, or any rate in Hz) or a PresentMon CSV capture. Its frame deltas drive the
+    /// loop (virtual frames, looped) and the pacing view measures at its display times.
+    #[arg(long, value_name = "MODEL|FILE.csv", conflicts_with = "frame_rate")]
+    pub display: Option<String>,
+    /// Start with this loop policy: accumulator, snap, snap-avg, quantise or hysteresis
+    /// (default: accumulator, volley::pacing::DEFAULT_POLICY).
+    #[arg(long, value_name = "NAME")]
+    pub policy: Option<String>,
+    /// Start with this draw mode: current, interpolate, extrapolate or predict (default:
+    /// predict, volley::pacing::DEFAULT_DRAW).
+    #[arg(long, value_name = "MODE")]
+    pub draw: Option<String>,
 }
 
 impl Default for DisplayArgs {
@@ -76,8 +92,83 @@ impl Default for DisplayArgs {
             history_budget: 64,
             warm_up_ticks: 0,
             script: None,
+            display: None,
+            policy: None,
+            draw: None,
         }
     }
+}
+
+/// Every display model name `--display` takes, for its error line.
+fn display_names() -> String {
+    let names: Vec<&str> = DisplayModel::bundled().iter().map(|(n, _)| *n).collect();
+    names.join(", ")
+}
+
+/// `--display`: a display model's name or rate, or a PresentMon CSV capture.
+pub fn parse_display(text: &str) -> Result<EmulatedDisplay, Failure> {
+    let path = std::path::Path::new(text);
+    let is_file = path.is_file()
+        || path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+    if !is_file {
+        return DisplayModel::named(text)
+            .map(|m| EmulatedDisplay::model(text, &m))
+            .ok_or_else(|| {
+                fail(
+                    EXIT_INPUT,
+                    format!(
+                        "--display: expected a display model ({}, or a refresh rate from 1 to \
+                         1000 Hz) or a PresentMon CSV file, got `{text}`",
+                        display_names()
+                    ),
+                )
+            });
+    }
+    let body = volley::scene::read_text(path).map_err(|e| {
+        fail(
+            EXIT_INPUT,
+            format!(
+                "--display: cannot read `{text}` ({e}); expected a PresentMon CSV file or a \
+                 display model ({})",
+                display_names()
+            ),
+        )
+    })?;
+    let timing = volley::pacing::read_capture(&body, text, None)
+        .map_err(|e| fail(EXIT_INPUT, format!("--display: {e}")))?;
+    if timing.presents.is_empty() {
+        return Err(fail(
+            EXIT_INPUT,
+            format!("--display: `{text}` holds no presents, expected at least one"),
+        ));
+    }
+    Ok(EmulatedDisplay::capture(timing))
+}
+
+/// `--policy NAME` with the refresh the game believes in.
+pub fn parse_policy(text: &str, refresh: std::time::Duration) -> Result<LoopPolicy, Failure> {
+    LoopPolicy::from_name(text, refresh).ok_or_else(|| {
+        fail(
+            EXIT_INPUT,
+            format!(
+                "--policy: expected one of {}, got `{text}`",
+                LoopPolicy::NAMES.join(", ")
+            ),
+        )
+    })
+}
+
+/// `--draw MODE`.
+pub fn parse_draw(text: &str) -> Result<DrawMode, Failure> {
+    DrawMode::parse(text).ok_or_else(|| {
+        let names: Vec<&str> = DrawMode::ALL.iter().map(|m| m.name()).collect();
+        fail(
+            EXIT_INPUT,
+            format!("--draw: expected one of {}, got `{text}`", names.join(", ")),
+        )
+    })
 }
 
 impl DisplayArgs {
@@ -109,6 +200,22 @@ impl DisplayArgs {
             }
             None => Vec::new(),
         };
+        let display = self.display.as_deref().map(parse_display).transpose()?;
+        // The refresh the snapping and quantising policies start with (the window takes the
+        // monitor's on the real clock, where it reports one).
+        let refresh = match (&display, self.frame_rate) {
+            (Some(d), _) => d.refresh,
+            (None, Some(hz)) => believed_refresh(hz),
+            (None, None) => volley::app::display::DEFAULT_REFRESH,
+        };
+        let policy = match &self.policy {
+            Some(name) => parse_policy(name, refresh)?,
+            None => volley::pacing::DEFAULT_POLICY.with_refresh(refresh),
+        };
+        let draw = match &self.draw {
+            Some(name) => parse_draw(name)?,
+            None => volley::pacing::DEFAULT_DRAW,
+        };
         Ok(WindowOptions {
             compare: Vec::new(),
             equal_cost: false,
@@ -125,6 +232,9 @@ impl DisplayArgs {
             script,
             history_budget: (self.history_budget as usize) << 20,
             warm_up_ticks: self.warm_up_ticks,
+            display,
+            policy,
+            draw,
         })
     }
 }
@@ -150,6 +260,7 @@ pub fn report(display: &DisplayArgs, summary: &RunSummary) {
         if let Some(lines) = &summary.probe {
             println!("probe: {}", lines.join("; "));
         }
+        println!("{}", summary.pacing);
     }
     if let (Some(_), Some(interval), Some(work), Some(ui), Some(triangles)) = (
         display.exit_after_frames,

@@ -132,9 +132,52 @@ fn colour(lane: &Lane) -> Color32 {
 /// Narrower than this the plots take turns (tabs) instead of sitting side by side.
 const SIDE_BY_SIDE: f32 = 720.0;
 
-/// Draws the plots, three side by side (or one at a time, picked by `tab`, in a narrow window),
-/// with the save button above them.
-pub fn show(ui: &mut Ui, session: &Session, tab: &mut usize, out: &mut Vec<Action>) {
+/// What the bottom panel holds: the live plots, the pacing view, or both side by side.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BottomPanel {
+    /// The three live plots.
+    pub plots: bool,
+    /// The pacing view ([`super::pacing::view`]).
+    pub pacing: bool,
+}
+
+/// Draws the bottom panel: the plots, the pacing view, or the plots in the left half (taking
+/// turns there when narrow) and the pacing view in the right half.
+pub fn show(
+    ui: &mut Ui,
+    session: &Session,
+    tab: &mut usize,
+    shown: BottomPanel,
+    out: &mut Vec<Action>,
+) {
+    let lane = colour(&session.lanes()[0]);
+    match (shown.plots, shown.pacing) {
+        (true, true) => {
+            let size = ui.available_size();
+            let half = egui::vec2((size.x / 2.0 - 8.0).max(0.0), size.y);
+            let top_down = egui::Layout::top_down(egui::Align::Min);
+            ui.horizontal_top(|ui| {
+                ui.allocate_ui_with_layout(half, top_down, |ui| {
+                    ui.set_min_size(half);
+                    ui.set_max_width(half.x);
+                    plots(ui, session, tab, out)
+                });
+                ui.separator();
+                let rest = ui.available_size();
+                ui.allocate_ui_with_layout(rest, top_down, |ui| {
+                    ui.set_max_width(rest.x);
+                    super::pacing::view(ui, session, lane, out)
+                });
+            });
+        }
+        (false, true) => super::pacing::view(ui, session, lane, out),
+        _ => plots(ui, session, tab, out),
+    }
+}
+
+/// The three plots side by side (or one at a time, picked by `tab`, when narrow), with the save
+/// button above them.
+fn plots(ui: &mut Ui, session: &Session, tab: &mut usize, out: &mut Vec<Action>) {
     let narrow = ui.available_width() < SIDE_BY_SIDE;
     ui.horizontal(|ui| {
         ui.strong("Plots");
@@ -153,11 +196,16 @@ pub fn show(ui: &mut Ui, session: &Session, tab: &mut usize, out: &mut Vec<Actio
             }
         }
         match &session.saved_note {
-            Some(note) => ui.weak(note),
-            None => ui.weak(
-                "lane colours as above; bands span min to max, body 0 dashed; hover reads t and the value",
-            ),
-        };
+            Some(note) => {
+                ui.weak(note);
+            }
+            None if !narrow => {
+                ui.weak(
+                    "lane colours as above; bands span min to max, body 0 dashed; hover reads t and the value",
+                );
+            }
+            None => {}
+        }
     });
     // The panel's height less the row above: the panel is as tall as what it holds, so the
     // plots follow its resize handle, never below a readable 150 px.

@@ -47,6 +47,7 @@ impl Session {
         self.last = FrameTicks::default();
         self.last_error = None;
         self.replay = Some(replay);
+        self.pacing.rebase();
     }
 
     /// Ends the replay and keeps its state: the lane runs on live from the tick it reached,

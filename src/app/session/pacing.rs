@@ -1,0 +1,307 @@
+//! The loop lab in the window: what the first lane's loop did with each frame, and what the
+//! frame showed against the exact motion at the moment it reached the screen.
+//!
+//! Each frame [`PacingLog::record`] keeps the ticks the frame ran, the draw modes' display
+//! errors for the measured body, and the drawn and exact positions for the judder ghosts, over
+//! the last [`PACING_FRAMES`] frames. The error is the lab's ([`crate::pacing::lab`]): the
+//! distance from the drawn position to the closed form at the frame's display time. That time
+//! is the wall clock's, not the game's: the log keeps the game time the wall time since the
+//! last discontinuity says (a restart, a seek, a pause, time dropped by the clamp), so a policy
+//! that lets game time drift from wall time (snapping on a 59.94 Hz display) shows the drift as
+//! error, as the lab measures it. An emulated display gives each frame's display time; on the
+//! real clock or steady frames it is not known, and the error is taken at the frame's sample.
+
+use std::collections::VecDeque;
+use std::time::Duration;
+
+use glam::DVec3;
+
+use crate::app::display::Shown;
+use crate::pacing::DrawMode;
+use crate::render::{DrawAt, JudderMark};
+use crate::world::BodyId;
+
+use super::Lane;
+
+/// Frames the log keeps: 10 s at 60 Hz.
+pub const PACING_FRAMES: usize = 600;
+/// Frames the cadence string and the swing count cover.
+pub const CADENCE_FRAMES: usize = 60;
+/// Frames the judder ghosts show.
+pub const JUDDER_FRAMES: usize = 12;
+/// Frame deltas [`DrawMode::Predict`]'s lead is the median of (the lab's window).
+pub const LEAD_WINDOW: usize = 15;
+
+/// One frame as the pacing view plots it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PacingFrame {
+    /// Wall time of the frame's sample since the window's first frame (s).
+    pub wall: f64,
+    /// Ticks the frame ran (the first lane's).
+    pub steps: u32,
+    /// Each draw mode's display error for the measured body (m), in [`DrawMode::ALL`]'s order;
+    /// `None` where there is none (no closed form, a dropped frame, no such body).
+    pub errors: [Option<f64>; 4],
+    /// Game time minus the wall clock's game time at the frame's sample (s of sim time).
+    pub drift: f64,
+}
+
+/// Why a frame has no display error.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NoError {
+    /// The measured body does not exist (the index is past the bodies).
+    NoBody(usize),
+    /// The body's forces have no closed form.
+    NoClosedForm,
+    /// The body's reference ended (an impact, a force switched) before the display time.
+    Ended,
+    /// The display dropped the frame: it was never shown.
+    Dropped,
+}
+
+impl std::fmt::Display for NoError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NoError::NoBody(i) => write!(f, "no body {i} in the first lane"),
+            NoError::NoClosedForm => f.write_str(
+                "no closed form for this body's forces: the display error needs the exact \
+                 motion at any time",
+            ),
+            NoError::Ended => f.write_str(
+                "the body's closed form ended (an impact or a force switched): no exact motion \
+                 to measure against",
+            ),
+            NoError::Dropped => f.write_str("the display dropped this frame"),
+        }
+    }
+}
+
+/// What one frame gives the log, besides the lane.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct FrameInput {
+    pub delta: Duration,
+    pub shown: Shown,
+    pub tick_before: u64,
+    pub paused: bool,
+    pub reversing: bool,
+    pub time_scale: f64,
+    pub draw: DrawMode,
+}
+
+/// The last frames of the first lane, for the pacing view and the judder ghosts.
+#[derive(Clone, Debug, Default)]
+pub struct PacingLog {
+    frames: VecDeque<PacingFrame>,
+    judder: Vec<JudderMark>,
+    judder_body: Option<BodyId>,
+    deltas: VecDeque<Duration>,
+    wall: f64,
+    /// The game time the wall clock says at the last frame's sample (s), since the last
+    /// discontinuity.
+    truth: Option<f64>,
+    last_tick: Option<u64>,
+    lead: f64,
+    /// The body measured: its storage index in the first lane.
+    pub body: usize,
+    /// Why the last frame has no error, if it has none.
+    pub note: Option<NoError>,
+    /// Whether display times are known (an emulated display) or the error is taken at the
+    /// frame's sample.
+    pub display_times: bool,
+}
+
+impl PacingLog {
+    /// The frames kept, oldest first.
+    pub fn frames(&self) -> impl ExactSizeIterator<Item = &PacingFrame> + '_ {
+        self.frames.iter()
+    }
+
+    /// The judder ghosts of the measured body, oldest first.
+    pub fn judder(&self) -> &[JudderMark] {
+        &self.judder
+    }
+
+    /// [`DrawMode::Predict`]'s lead for the frame being drawn (s of sim time): the median of
+    /// the last [`LEAD_WINDOW`] frame deltas times the time scale, 0 while paused.
+    pub fn lead(&self) -> f64 {
+        self.lead
+    }
+
+    /// The ticks of the last [`CADENCE_FRAMES`] frames, one digit each (`+` for 10 or more),
+    /// oldest first.
+    pub fn cadence(&self) -> String {
+        self.last_steps()
+            .map(|s| char::from_digit(s, 10).unwrap_or('+'))
+            .collect()
+    }
+
+    /// 0-to-2 swings in the last [`CADENCE_FRAMES`] frames: a frame of no tick next to one of
+    /// two or more (the lab's count).
+    pub fn swings(&self) -> usize {
+        let steps: Vec<u32> = self.last_steps().collect();
+        steps
+            .windows(2)
+            .filter(|w| (w[0] == 0 && w[1] >= 2) || (w[0] >= 2 && w[1] == 0))
+            .count()
+    }
+
+    /// The median display error of `mode` over the frames of the last `seconds` of wall time
+    /// that have one (m).
+    pub fn median_error(&self, mode: DrawMode, seconds: f64) -> Option<f64> {
+        let k = DrawMode::ALL.iter().position(|&m| m == mode)?;
+        let since = self.wall - seconds;
+        let mut e: Vec<f64> = self
+            .frames
+            .iter()
+            .filter(|f| f.wall >= since)
+            .filter_map(|f| f.errors[k])
+            .collect();
+        e.sort_by(f64::total_cmp);
+        e.get(e.len() / 2).copied()
+    }
+
+    fn last_steps(&self) -> impl Iterator<Item = u32> + '_ {
+        let skip = self.frames.len().saturating_sub(CADENCE_FRAMES);
+        self.frames.iter().skip(skip).map(|f| f.steps)
+    }
+
+    /// Forgets the judder ghosts and the wall clock's game time (the world restarted).
+    pub(super) fn rebase(&mut self) {
+        self.truth = None;
+        self.last_tick = None;
+        self.judder.clear();
+    }
+
+    /// Takes the frame the first lane just ran in.
+    pub(super) fn record(&mut self, lane: &Lane, input: FrameInput) {
+        let world = &lane.sim.world;
+        let clock = &lane.sim.clock;
+        self.wall += input.delta.as_secs_f64();
+        if self.deltas.len() == LEAD_WINDOW {
+            self.deltas.pop_front();
+        }
+        self.deltas.push_back(input.delta);
+        let still = input.paused || input.reversing;
+        self.lead = if still {
+            0.0
+        } else {
+            median(&self.deltas).as_secs_f64() * input.time_scale
+        };
+        let tick = world.tick();
+        let steps = u32::try_from(tick.saturating_sub(input.tick_before)).unwrap_or(u32::MAX);
+        let alpha = clock.alpha();
+        let dt = world.dt();
+        let sampled = world.time() + alpha * dt;
+        // Game seconds per wall second of the clock: a tick is `dt` of game time for each
+        // whole-nanosecond timestep of scaled wall time.
+        let rate = input.time_scale * dt / clock.timestep().as_secs_f64();
+        let continuous = !still
+            && lane.stopped.is_none()
+            && clock.last_frame().dropped.is_zero()
+            && self.last_tick == Some(input.tick_before)
+            && tick >= input.tick_before;
+        let truth = match self.truth {
+            Some(t) if continuous => t + input.delta.as_secs_f64() * rate,
+            _ => sampled,
+        };
+        if !continuous {
+            self.judder.clear();
+        }
+        self.truth = Some(truth);
+        self.last_tick = Some(tick);
+        let (errors, mark) = self.measure(lane, input, truth, alpha, rate);
+        if let Some(mark) = mark {
+            if self.judder.len() == JUDDER_FRAMES {
+                self.judder.remove(0);
+            }
+            self.judder.push(mark);
+        }
+        if self.frames.len() == PACING_FRAMES {
+            self.frames.pop_front();
+        }
+        self.frames.push_back(PacingFrame {
+            wall: self.wall,
+            steps,
+            errors,
+            drift: sampled - truth,
+        });
+    }
+
+    /// Each draw mode's display error and the selected mode's judder mark, or why there is
+    /// none (in [`PacingLog::note`]).
+    fn measure(
+        &mut self,
+        lane: &Lane,
+        input: FrameInput,
+        truth: f64,
+        alpha: f64,
+        rate: f64,
+    ) -> ([Option<f64>; 4], Option<JudderMark>) {
+        let world = &lane.sim.world;
+        let none = [None; 4];
+        let Some(&id) = world.bodies().ids().get(self.body) else {
+            self.note = Some(NoError::NoBody(self.body));
+            self.judder.clear();
+            return (none, None);
+        };
+        if self.judder_body != Some(id) {
+            self.judder.clear();
+            self.judder_body = Some(id);
+        }
+        let after = match input.shown {
+            Shown::After(d) if !(input.paused || input.reversing) => d.as_secs_f64() * rate,
+            Shown::After(_) | Shown::Unknown => 0.0,
+            Shown::Dropped => {
+                self.note = Some(NoError::Dropped);
+                return (none, None);
+            }
+        };
+        self.display_times = matches!(input.shown, Shown::After(_));
+        let at = |mode| DrawAt {
+            mode,
+            alpha,
+            lead: self.lead,
+        };
+        let drawn = DrawMode::ALL.map(|m| lane.history.drawn_one(world, self.body, at(m)));
+        let selected = DrawMode::ALL
+            .iter()
+            .position(|&m| m == input.draw)
+            .and_then(|k| drawn[k]);
+        let exact = match lane.history.references.get(id) {
+            Some(r) if !r.has_closed_form => Err(NoError::NoClosedForm),
+            Some(r) => {
+                let t = truth + after - r.spawn_time;
+                let ended = r.ends_after(world.dt()).is_some_and(|end| t > end);
+                match r.exact_at(t) {
+                    Some(s) if !ended => Ok(s.p),
+                    _ => Err(NoError::Ended),
+                }
+            }
+            None => Err(NoError::NoClosedForm),
+        };
+        let exact = match exact {
+            Ok(p) => {
+                self.note = None;
+                Some(p)
+            }
+            Err(why) => {
+                self.note = Some(why);
+                None
+            }
+        };
+        let errors = drawn.map(|d| Some((d? - exact?).length()));
+        let radius = world.bodies().radii()[self.body];
+        let mark = selected.map(|drawn: DVec3| JudderMark {
+            drawn,
+            exact,
+            radius,
+        });
+        (errors, mark)
+    }
+}
+
+fn median(values: &VecDeque<Duration>) -> Duration {
+    let mut v: Vec<Duration> = values.iter().copied().collect();
+    v.sort_unstable();
+    v.get(v.len() / 2).copied().unwrap_or_default()
+}
