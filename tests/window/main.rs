@@ -11,6 +11,7 @@ mod render_golden;
 mod render_history;
 mod window_aim;
 mod window_compare;
+mod window_pacing;
 mod window_plots;
 mod window_probe;
 mod window_record_replay;

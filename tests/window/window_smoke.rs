@@ -86,6 +86,18 @@ pub(crate) fn under_xvfb_sized(
     args: &[&str],
     size: &str,
 ) -> Option<std::process::Output> {
+    under_xvfb_paced(test, env, args, size, &["--frame-rate", "60"])
+}
+
+/// [`under_xvfb_sized`] with `pacing` for the frames instead of `--frame-rate 60` (an
+/// emulated display's `--display NAME`).
+pub(crate) fn under_xvfb_paced(
+    test: &str,
+    env: &[(&str, &str)],
+    args: &[&str],
+    size: &str,
+    pacing: &[&str],
+) -> Option<std::process::Output> {
     if !has("xvfb-run") {
         support::unavailable(test, "xvfb-run is not installed (apt-get install xvfb)");
         return None;
@@ -94,7 +106,8 @@ pub(crate) fn under_xvfb_sized(
         .args(["120", "xvfb-run", "-a", "-s", "-screen 0 1600x1200x24"])
         .arg(env!("CARGO_BIN_EXE_volley"))
         .args(args)
-        .args(["--size", size, "--frame-rate", "60"])
+        .args(["--size", size])
+        .args(pacing)
         .envs(env.iter().copied())
         .output()
         .expect("timeout and xvfb-run start");
