@@ -13,13 +13,11 @@
 //! The file is JSON (`serde_json` with `float_roundtrip`, so every float reads back to the bit)
 //! with a fixed `format` tag and a [`VERSION`] that a reader of another version refuses.
 
-use std::collections::BTreeMap;
-
 use serde::{Deserialize, Serialize};
 
 use crate::clock::LoopPolicy;
 use crate::integrate::Integrator;
-use crate::study::shard::{MergeError, Shard};
+use crate::study::shard::{self as study_shard, MergeError, Shard, Shards, at};
 
 use super::lab::Subject;
 use super::metrics::Metrics;
@@ -184,20 +182,6 @@ pub struct PacingShard {
     pub rows: Vec<(usize, RowRecord)>,
 }
 
-fn at(file: &str, message: impl Into<String>) -> MergeError {
-    MergeError {
-        file: Some(file.to_string()),
-        message: message.into(),
-    }
-}
-
-/// Just the fields that say what a file is, read before the rest.
-#[derive(Deserialize)]
-struct Tag {
-    format: String,
-    version: u32,
-}
-
 impl PacingShard {
     /// Runs the jobs of `sweep` that `shard` owns.
     pub fn run(sweep: &Sweep, shard: Shard) -> Result<PacingShard, crate::sim_loop::LoopError> {
@@ -217,39 +201,13 @@ impl PacingShard {
 
     /// The file's text: pretty JSON with a trailing newline.
     pub fn to_json(&self) -> String {
-        // Every key is a string and every value serialisable, so this cannot fail.
-        let mut text = serde_json::to_string_pretty(self)
-            .expect("a pacing shard has string keys and serialisable values");
-        text.push('\n');
-        text
+        study_shard::to_json(self)
     }
 
     /// Reads a shard file's text; `file` labels the errors. Refuses another format or version
     /// before reading the rest, and a file whose rows are not the jobs its shard owns.
     pub fn from_json(text: &str, file: &str) -> Result<PacingShard, MergeError> {
-        let tag: Tag = serde_json::from_str(text).map_err(|e| {
-            at(
-                file,
-                format!("expected a pacing shard file (JSON with format \"{FORMAT}\"): {e}"),
-            )
-        })?;
-        if tag.format != FORMAT {
-            return Err(at(
-                file,
-                format!("expected format \"{FORMAT}\", got \"{}\"", tag.format),
-            ));
-        }
-        if tag.version != VERSION {
-            return Err(at(
-                file,
-                format!(
-                    "pacing shard file version {}, this volley reads version {VERSION}",
-                    tag.version
-                ),
-            ));
-        }
-        let part: PacingShard = serde_json::from_str(text)
-            .map_err(|e| at(file, format!("not a valid pacing shard file: {e}")))?;
+        let part: PacingShard = study_shard::from_json(text, file, FORMAT, VERSION, "pacing")?;
         part.check(file)?;
         Ok(part)
     }
@@ -366,8 +324,7 @@ pub fn merge(parts: &[(String, PacingShard)]) -> Result<Vec<Row>, MergeError> {
             message: "expected at least one shard file".into(),
         });
     };
-    let count = first.shard.count;
-    let mut by_index: BTreeMap<u32, &str> = BTreeMap::new();
+    let mut shards = Shards::new(first_file, first.shard.count, "sweep");
     for (file, part) in parts {
         part.check(file)?;
         if part.sweep != first.sweep {
@@ -379,37 +336,9 @@ pub fn merge(parts: &[(String, PacingShard)]) -> Result<Vec<Row>, MergeError> {
                 ),
             ));
         }
-        if part.shard.count != count {
-            return Err(at(
-                file,
-                format!(
-                    "one of {} shards, {first_file} is one of {count}: not a shard of the same \
-                     sweep",
-                    part.shard.count
-                ),
-            ));
-        }
-        if let Some(other) = by_index.insert(part.shard.index, file) {
-            return Err(at(
-                file,
-                format!(
-                    "shard {}/{count} given twice (also {other})",
-                    part.shard.index
-                ),
-            ));
-        }
+        shards.add(file, part.shard)?;
     }
-    if let Some(missing) = (0..count).find(|i| !by_index.contains_key(i)) {
-        let have: Vec<String> = by_index.keys().map(u32::to_string).collect();
-        return Err(MergeError {
-            file: None,
-            message: format!(
-                "missing shard {missing}/{count}: the files given hold shards {} of {count} \
-                 (numbered from 0)",
-                have.join(", ")
-            ),
-        });
-    }
+    shards.finish()?;
     let mut rows: Vec<(usize, Row)> = parts
         .iter()
         .flat_map(|(_, p)| p.rows.iter().map(|(k, r)| (*k, r.row())))

@@ -112,10 +112,119 @@ impl std::fmt::Display for MergeError {
 
 impl std::error::Error for MergeError {}
 
-fn at(file: &str, message: impl Into<String>) -> MergeError {
+pub(crate) fn at(file: &str, message: impl Into<String>) -> MergeError {
     MergeError {
         file: Some(file.to_string()),
         message: message.into(),
+    }
+}
+
+/// A shard file's text: pretty JSON with a trailing newline (the study's and the loop lab's).
+pub(crate) fn to_json<T: Serialize>(value: &T) -> String {
+    // Every key is a string and every value serialisable, so this cannot fail.
+    let mut text = serde_json::to_string_pretty(value)
+        .expect("a shard has string keys and serialisable values");
+    text.push('\n');
+    text
+}
+
+/// Reads a shard file of `format` at `version` (`what` names it in errors: "study", "pacing"),
+/// refusing another format or version before reading the rest.
+pub(crate) fn from_json<T: serde::de::DeserializeOwned>(
+    text: &str,
+    file: &str,
+    format: &str,
+    version: u32,
+    what: &str,
+) -> Result<T, MergeError> {
+    let tag: Tag = serde_json::from_str(text).map_err(|e| {
+        at(
+            file,
+            format!("expected a {what} shard file (JSON with format \"{format}\"): {e}"),
+        )
+    })?;
+    if tag.format != format {
+        return Err(at(
+            file,
+            format!("expected format \"{format}\", got \"{}\"", tag.format),
+        ));
+    }
+    if tag.version != version {
+        let label = if what == "study" {
+            "shard"
+        } else {
+            "pacing shard"
+        };
+        return Err(at(
+            file,
+            format!(
+                "{label} file version {}, this volley reads version {version}",
+                tag.version
+            ),
+        ));
+    }
+    serde_json::from_str(text).map_err(|e| at(file, format!("not a valid {what} shard file: {e}")))
+}
+
+/// Whether the shards given are one complete set: one shard count, each index once, none
+/// missing. Fed file by file ([`Shards::add`]) so the first file at fault is the one named.
+pub(crate) struct Shards<'a> {
+    first: &'a str,
+    count: u32,
+    what: &'a str,
+    by_index: BTreeMap<u32, &'a str>,
+}
+
+impl<'a> Shards<'a> {
+    /// A set whose first file, `first`, is one of `count` shards of a `what` ("study").
+    pub(crate) fn new(first: &'a str, count: u32, what: &'a str) -> Shards<'a> {
+        Shards {
+            first,
+            count,
+            what,
+            by_index: BTreeMap::new(),
+        }
+    }
+
+    /// One more file: refused if it is of another shard count or given twice.
+    pub(crate) fn add(&mut self, file: &'a str, shard: Shard) -> Result<(), MergeError> {
+        let (count, first, what) = (self.count, self.first, self.what);
+        if shard.count != count {
+            return Err(at(
+                file,
+                format!(
+                    "one of {} shards, {first} is one of {count}: not a shard of the same \
+                     {what}",
+                    shard.count
+                ),
+            ));
+        }
+        if let Some(other) = self.by_index.insert(shard.index, file) {
+            return Err(at(
+                file,
+                format!("shard {}/{count} given twice (also {other})", shard.index),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refused if a shard is missing.
+    pub(crate) fn finish(&self) -> Result<(), MergeError> {
+        let count = self.count;
+        match (0..count).find(|i| !self.by_index.contains_key(i)) {
+            None => Ok(()),
+            Some(missing) => {
+                let have: Vec<String> = self.by_index.keys().map(u32::to_string).collect();
+                Err(MergeError {
+                    file: None,
+                    message: format!(
+                        "missing shard {missing}/{count}: the files given hold shards {} of \
+                         {count} (numbered from 0)",
+                        have.join(", ")
+                    ),
+                })
+            }
+        }
     }
 }
 
@@ -129,39 +238,13 @@ struct Tag {
 impl ShardResult {
     /// The file's text: pretty JSON with a trailing newline.
     pub fn to_json(&self) -> String {
-        // Every key is a string and every value serialisable, so this cannot fail.
-        let mut text = serde_json::to_string_pretty(self)
-            .expect("a shard result has string keys and serialisable values");
-        text.push('\n');
-        text
+        to_json(self)
     }
 
     /// Reads a shard file's text; `file` labels the errors. Refuses another format or version
     /// before reading the rest.
     pub fn from_json(text: &str, file: &str) -> Result<ShardResult, MergeError> {
-        let tag: Tag = serde_json::from_str(text).map_err(|e| {
-            at(
-                file,
-                format!("expected a study shard file (JSON with format \"{FORMAT}\"): {e}"),
-            )
-        })?;
-        if tag.format != FORMAT {
-            return Err(at(
-                file,
-                format!("expected format \"{FORMAT}\", got \"{}\"", tag.format),
-            ));
-        }
-        if tag.version != VERSION {
-            return Err(at(
-                file,
-                format!(
-                    "shard file version {}, this volley reads version {VERSION}",
-                    tag.version
-                ),
-            ));
-        }
-        let result: ShardResult = serde_json::from_str(text)
-            .map_err(|e| at(file, format!("not a valid study shard file: {e}")))?;
+        let result: ShardResult = from_json(text, file, FORMAT, VERSION, "study")?;
         result.check(file)?;
         Ok(result)
     }
@@ -217,8 +300,7 @@ pub fn merge(parts: &[(String, ShardResult)]) -> Result<StudyReport, MergeError>
             message: "expected at least one shard file".into(),
         });
     };
-    let count = first.shard.count;
-    let mut by_index: BTreeMap<u32, &str> = BTreeMap::new();
+    let mut shards = Shards::new(first_file, first.shard.count, "study");
     for (file, part) in parts {
         part.check(file)?;
         let differs = |what: &str| {
@@ -238,40 +320,15 @@ pub fn merge(parts: &[(String, ShardResult)]) -> Result<StudyReport, MergeError>
                 "the study configuration (integrators, dts, until, options)",
             ));
         }
-        if part.shard.count != count {
-            return Err(at(
-                file,
-                format!(
-                    "one of {} shards, {first_file} is one of {count}: not a shard of the same \
-                     study",
-                    part.shard.count
-                ),
-            ));
+        if part.shard.count != first.shard.count {
+            shards.add(file, part.shard)?;
         }
         if part.header != first.header {
             return Err(differs("the build profile, start time or pre-check"));
         }
-        if let Some(other) = by_index.insert(part.shard.index, file) {
-            return Err(at(
-                file,
-                format!(
-                    "shard {}/{count} given twice (also {other})",
-                    part.shard.index
-                ),
-            ));
-        }
+        shards.add(file, part.shard)?;
     }
-    if let Some(missing) = (0..count).find(|i| !by_index.contains_key(i)) {
-        let have: Vec<String> = by_index.keys().map(u32::to_string).collect();
-        return Err(MergeError {
-            file: None,
-            message: format!(
-                "missing shard {missing}/{count}: the files given hold shards {} of {count} \
-                 (numbered from 0)",
-                have.join(", ")
-            ),
-        });
-    }
+    shards.finish()?;
     let config = &first.study.config;
     let mut references: Vec<Option<(&str, Reference)>> = vec![None; config.dts.len()];
     let mut points: Vec<Option<StudyPoint>> =
