@@ -223,11 +223,5 @@ fn main() {
     );
     let _ = writeln!(md, "{END}");
     print!("{md}");
-    if let Some(path) = std::env::var_os("VOLLEY_BENCH_WRITE") {
-        let path = std::path::PathBuf::from(path);
-        match splice::splice(&path, &md, BEGIN, END) {
-            Ok(()) => eprintln!("wrote the results into {}", path.display()),
-            Err(e) => eprintln!("cannot update {}: {e}", path.display()),
-        }
-    }
+    splice::write_if_asked(&md, BEGIN, END);
 }

@@ -17,3 +17,16 @@ pub fn splice(path: &Path, block: &str, begin: &str, end: &str) -> std::io::Resu
     };
     std::fs::write(path, new)
 }
+
+/// With `VOLLEY_BENCH_WRITE=FILE`, replaces the block of `md` (from `begin` to `end`) in FILE,
+/// saying so on stderr; without it, nothing. What every bench that writes BENCHMARKS.md ends
+/// with.
+pub fn write_if_asked(md: &str, begin: &str, end: &str) {
+    if let Some(path) = std::env::var_os("VOLLEY_BENCH_WRITE") {
+        let path = std::path::PathBuf::from(path);
+        match splice(&path, md, begin, end) {
+            Ok(()) => eprintln!("wrote the results into {}", path.display()),
+            Err(e) => eprintln!("cannot update {}: {e}", path.display()),
+        }
+    }
+}

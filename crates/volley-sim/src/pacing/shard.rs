@@ -215,13 +215,7 @@ impl PacingShard {
     /// Whether the file is consistent with itself: a valid shard of a non-empty sweep of known
     /// policies, holding exactly its jobs, each the job its number says.
     fn check(&self, file: &str) -> Result<(), MergeError> {
-        let Shard { index, count } = self.shard;
-        if !self.shard.is_valid() {
-            return Err(at(
-                file,
-                format!("shard {index}/{count}: expected 0 <= index < count"),
-            ));
-        }
+        let Shard { index, count } = self.shard.checked(file)?;
         let sweep = &self.sweep;
         if let Some(p) = sweep
             .policies

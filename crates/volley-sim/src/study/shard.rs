@@ -43,6 +43,21 @@ impl Shard {
         self.index < self.count
     }
 
+    /// The shard itself if `index < count`, else the error naming `file`.
+    pub(crate) fn checked(self, file: &str) -> Result<Shard, MergeError> {
+        if self.is_valid() {
+            Ok(self)
+        } else {
+            Err(at(
+                file,
+                format!(
+                    "shard {}/{}: expected 0 <= index < count",
+                    self.index, self.count
+                ),
+            ))
+        }
+    }
+
     /// Whether point `k` of the dt-major list is this shard's.
     pub fn owns(self, k: usize) -> bool {
         k % self.count as usize == self.index as usize
@@ -252,13 +267,7 @@ impl ShardResult {
     /// Whether the file is consistent with itself: a valid shard of a non-empty study, holding
     /// exactly its points and the references they need.
     fn check(&self, file: &str) -> Result<(), MergeError> {
-        let Shard { index, count } = self.shard;
-        if !self.shard.is_valid() {
-            return Err(at(
-                file,
-                format!("shard {index}/{count}: expected 0 <= index < count"),
-            ));
-        }
+        let Shard { index, count } = self.shard.checked(file)?;
         let config = &self.study.config;
         let per_dt = config.integrators.len();
         if per_dt == 0 || config.dts.is_empty() {
