@@ -9,8 +9,10 @@
 
 use std::time::Duration;
 
-use volley_sim::clock::{FrameSource, VirtualClock};
-use volley_sim::{Command, EventKind, ObserverError, SimLoop, TickObserver, World, hash, scene};
+use volley_sim::{
+    Command, EventKind, FrameSource, ObserverError, SimLoop, TickObserver, VirtualClock, World,
+    bundled_scene, state_hash,
+};
 
 /// What the game does after every tick: here, report impacts, target passes and hits.
 struct Game {
@@ -36,7 +38,7 @@ impl TickObserver for Game {
 }
 
 fn main() {
-    let scene = scene::bundled("seed").unwrap_or_else(|e| {
+    let scene = bundled_scene("seed").unwrap_or_else(|e| {
         eprintln!("{e}");
         std::process::exit(2);
     });
@@ -64,12 +66,12 @@ fn main() {
     }
     let world = &sim.world;
     println!(
-        "{} ticks, t = {:.4} s, {} bodies, {} events ({} impacts), state hash {}",
+        "{} ticks, t = {:.4} s, {} bodies, {} events ({} impacts), state hash {:#018x}",
         world.tick(),
         world.time(),
         world.bodies().len(),
         game.events,
         game.impacts,
-        hash::hex(hash::state_hash(world))
+        state_hash(world)
     );
 }

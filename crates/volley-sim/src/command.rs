@@ -75,7 +75,8 @@ pub struct Stamped {
     pub command: Command,
 }
 
-/// Why a command could not be applied or parsed.
+/// Why a command could not be applied to the world ([`World::apply`]); what reading one can
+/// fail with is [`CommandParseError`].
 #[derive(Clone, Debug, PartialEq)]
 pub enum CommandError {
     /// `despawn` of a body the world does not have.

@@ -18,24 +18,32 @@
 //!   `mul_add`, transcendental functions from the `libm` crate, the only random generator lives
 //!   in the [`World`], and parallel work is combined in a fixed order.
 //!
-//! ## Layers
-//! Bottom up, with no import from a lower layer to a higher one: [`body`], [`rng`], [`simd`] ->
-//! [`forces`] -> [`exact`] -> [`integrate`] -> [`contact`] -> [`scene`] -> [`world`] -> [`step`]
-//! -> [`command`], [`hash`], [`clock`] -> [`sim_loop`] -> [`table`], [`replay`], [`study`],
-//! [`stability`], [`firing`], [`timeline`]. Above this crate, in the `volley` package: the renderer and the window, then
-//! the CLI. Nothing here depends on a GPU, window, plotting or command-line crate.
+//! ## What a game uses
+//! Everything a game names is at this root, one path per type:
+//! - **A world and its scene**: [`World`] (its [`Bodies`], [`BodyId`], [`BodyState`]), a
+//!   [`Scene`] from a file ([`load_scene`], [`parse_scene`]), a bundled one ([`bundled_scene`])
+//!   or code ([`Scene::builder`]); its parts [`BodySpec`], [`Launcher`], [`Volley`], [`Guard`];
+//!   forces ([`Forces`], [`ForceKind`], [`Spring`], [`PointMass`]); contacts ([`Ground`],
+//!   [`Wall`], [`Target`], [`Detection`]) and what they report ([`Event`], [`EventKind`]).
+//! - **The loop**: [`SimLoop`] and its [`TickObserver`]s, the [`FixedClock`] with its
+//!   [`LoopPolicy`], frame sources ([`RealClock`], [`VirtualClock`]), and where to draw between
+//!   ticks ([`DrawMode`]; Volley's measured defaults [`DEFAULT_POLICY`] and [`DEFAULT_DRAW`]).
+//! - **Input**: [`Command`]s, applied at tick boundaries, and command scripts
+//!   ([`parse_script`]).
+//! - **Checking a run**: [`state_hash`], recordings ([`Recorder`], [`Recording`]) and their
+//!   [`Replay`], the rewinding [`Timeline`].
+//! - **Aim**: [`solve_aim`], launches that hit in the simulation as stepped.
 //!
-//! ## The path through `src/`
-//! [`scene`] file -> [`World`] ([`world`]) -> [`clock`] decides the ticks of a frame ->
-//! [`sim_loop`] applies [`command`]s and calls [`World::step`] ([`step`]: [`forces`],
-//! [`integrate`], [`contact`]) -> [`hash`] -> an observer: the [`table`] writer, a recorder, a
-//! renderer, or nothing. [`exact`] holds the closed forms everything is measured against.
+//! docs/library.md walks through them. The modules behind these names are public for Volley's
+//! own window, CLI, tests, benches and fuzz targets, and hidden from these docs: they hold the
+//! internals (per-body columns, vector widths, the step's chunking, the study, the stability
+//! pre-check, the loop lab's sweep) and their performance knobs, which are not part of the
+//! surface a game should build on. Their layers are in docs/contributing.md.
 //!
 //! ```
-//! use volley_sim::{scene, SimLoop, World};
-//! use volley_sim::clock::VirtualClock;
+//! use volley_sim::{SimLoop, VirtualClock, World, bundled_scene};
 //!
-//! let scene = scene::bundled("seed")?;
+//! let scene = bundled_scene("seed")?;
 //! let mut sim = SimLoop::new(World::new(&scene));
 //! sim.run_until(27, &mut VirtualClock::display(144.0), &mut ())?;
 //! assert_eq!(sim.world.tick(), 27);
@@ -47,56 +55,89 @@
 
 // 1. Plain data with no dependency inside the crate: ids, per-body state and columns; the
 //    world's one seeded generator; CPU-feature dispatch for the per-body loops.
+#[doc(hidden)]
 pub mod body;
+#[doc(hidden)]
 pub mod rng;
+#[doc(hidden)]
 pub mod simd;
 
 // 2. Physics, each on the ones before it: declared force terms (only those are evaluated);
 //    closed forms, launch solutions, times of impact; the integrators; ground, walls, targets.
+#[doc(hidden)]
 pub mod forces;
 
+#[doc(hidden)]
 pub mod exact;
 
+#[doc(hidden)]
 pub mod integrate;
 
+#[doc(hidden)]
 pub mod contact;
 
 // 3. What a run is made of: the validated scene; the world (state, parameters, scratch); one
 //    tick as named stages.
+#[doc(hidden)]
 pub mod scene;
 
+#[doc(hidden)]
 pub mod world;
 
+#[doc(hidden)]
 pub mod step;
 
 // 4. Around a tick: commands applied at tick boundaries, the canonical state hash, the
 //    fixed-timestep clock.
+#[doc(hidden)]
 pub mod clock;
+#[doc(hidden)]
 pub mod command;
+#[doc(hidden)]
 pub mod hash;
 
 // 5. The one loop every mode runs; `TickObserver` is its only seam.
+#[doc(hidden)]
 pub mod sim_loop;
 
 // 6. What runs on the loop: the state table, recordings and replays, the study, the stability
 //    pre-check, firing solutions solved on the stepped trajectory, the in-memory history for
 //    rewinding.
+#[doc(hidden)]
 pub mod firing;
+#[doc(hidden)]
 pub mod pacing;
+#[doc(hidden)]
 pub mod replay;
+#[doc(hidden)]
 pub mod stability;
+#[doc(hidden)]
 pub mod study;
+#[doc(hidden)]
 pub mod table;
+#[doc(hidden)]
 pub mod timeline;
 
-pub use clock::{FixedClock, FrameSource, FrameTicks, RealClock, VirtualClock};
-pub use command::{Command, Stamped};
-pub use contact::{Event, EventKind};
-pub use forces::{ForceKind, Forces};
+// The game-facing surface (the crate doc lists it by purpose).
+pub use body::{Bodies, BodyId, BodyState};
+pub use clock::{
+    ClockError, FixedClock, FrameSource, FrameTicks, LoopPolicy, RealClock, VirtualClock,
+};
+pub use command::{Command, CommandError, CommandParseError, ScriptError, Stamped, parse_script};
+pub use contact::{Detection, Event, EventKind, Ground, Surface, Target, Wall};
+pub use firing::{FiringError, Mode as AimMode, Range as AimRange, Shot, solve as solve_aim};
+pub use forces::{ForceKind, Forces, PointMass, Spring};
+pub use hash::state_hash;
 pub use integrate::Integrator;
-pub use scene::{Scene, SceneError};
+pub use pacing::{DEFAULT_DRAW, DEFAULT_POLICY, DrawMode};
+pub use replay::{FirstDivergence, RecordOptions, Recorder, Recording, Replay};
+pub use scene::{
+    BodySpec, Guard, Launcher, Scene, SceneBuilder, SceneError, Volley, bundled as bundled_scene,
+    load as load_scene, parse as parse_scene,
+};
 pub use sim_loop::{LoopError, ObserverError, SimLoop, TickObserver};
-pub use world::{BodyId, Divergence, World};
+pub use timeline::Timeline;
+pub use world::{Divergence, World};
 
 // docs/library.md's examples, compiled and run as doc tests so the page cannot go stale.
 #[cfg(doctest)]

@@ -28,7 +28,7 @@ pub enum ExtrapolationError {
     /// The step fell below 1e-12 of the span at this time (s): the problem is too stiff or
     /// singular for the tolerance.
     StepTooSmall(f64),
-    /// More than [`MAX_STEPS`] macro steps.
+    /// More than `MAX_STEPS` (a million) macro steps.
     TooManySteps,
     /// The state stopped being finite at this time (s).
     NonFinite(f64),
