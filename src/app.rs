@@ -641,12 +641,11 @@ impl App {
                     .default_size(240.0)
                     .min_size(190.0)
                     .show(ui, |ui| {
-                        let tab = &mut self.panel.plot_tab;
                         let shown = panel::plots::BottomPanel {
                             plots: show_plots,
                             pacing: show_pacing,
                         };
-                        panel::plots::show(ui, &self.session, tab, shown, &mut actions)
+                        panel::plots::show(ui, &self.session, &mut self.panel, shown, &mut actions)
                     });
             }
             rest = ui.available_rect_before_wrap();

@@ -73,6 +73,8 @@ pub struct PanelState {
     pub plot_tab: usize,
     /// A note on the scene file: watched, reloaded, or why a reload failed.
     pub file_note: Option<(String, bool)>,
+    /// Where the last "Save plots" or "Save setup" wrote, or why it could not.
+    pub saved_note: Option<String>,
     /// Bundled scenes, (name, path).
     pub scenes: Vec<(String, PathBuf)>,
     /// Where the frames come from (an emulated display, steady frames, the real clock).
@@ -101,6 +103,7 @@ impl PanelState {
             aim_target: 0,
             plot_tab: 0,
             file_note: None,
+            saved_note: None,
             scenes,
             frames_note: "the real clock".into(),
             pacing_view: false,
@@ -463,7 +466,7 @@ fn simulation(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut 
         }
     });
     ui.horizontal(|ui| {
-        if let Some(note) = &session.saved_note {
+        if let Some(note) = &state.saved_note {
             ui.weak(note);
         }
     });

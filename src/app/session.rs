@@ -118,8 +118,6 @@ pub struct Session {
     reverse: Option<Duration>,
     /// What the last seek did to a recording or the recorded future, for the panel.
     pub timeline_note: Option<String>,
-    /// Where the last "Save plots" or "Save setup" wrote, or why it could not.
-    pub saved_note: Option<String>,
     /// How every lane is drawn between (or past) its ticks.
     draw: DrawMode,
     /// The refresh interval the snapping and quantising policies are given.
@@ -172,7 +170,6 @@ impl Session {
             history_budget: crate::timeline::DEFAULT_BUDGET,
             reverse: None,
             timeline_note: None,
-            saved_note: None,
             draw: crate::pacing::DEFAULT_DRAW,
             refresh: DEFAULT_REFRESH,
             pacing: pacing::PacingLog::default(),

@@ -12,7 +12,7 @@
 //! Hovering reads sim time and value. "Save plots" writes the series as CSV and the diagram as
 //! PNG ([`write`]).
 
-use super::named_button;
+use super::{PanelState, named_button};
 use std::path::{Path, PathBuf};
 
 use egui::{Color32, Ui};
@@ -146,7 +146,7 @@ pub struct BottomPanel {
 pub fn show(
     ui: &mut Ui,
     session: &Session,
-    tab: &mut usize,
+    state: &mut PanelState,
     shown: BottomPanel,
     out: &mut Vec<Action>,
 ) {
@@ -160,7 +160,7 @@ pub fn show(
                 ui.allocate_ui_with_layout(half, top_down, |ui| {
                     ui.set_min_size(half);
                     ui.set_max_width(half.x);
-                    plots(ui, session, tab, out)
+                    plots(ui, session, state, out)
                 });
                 ui.separator();
                 let rest = ui.available_size();
@@ -171,13 +171,13 @@ pub fn show(
             });
         }
         (false, true) => super::pacing::view(ui, session, lane, out),
-        _ => plots(ui, session, tab, out),
+        _ => plots(ui, session, state, out),
     }
 }
 
-/// The three plots side by side (or one at a time, picked by `tab`, when narrow), with the save
+/// The three plots side by side (or one at a time, picked by the panel's `plot_tab`, when narrow), with the save
 /// button above them.
-fn plots(ui: &mut Ui, session: &Session, tab: &mut usize, out: &mut Vec<Action>) {
+fn plots(ui: &mut Ui, session: &Session, state: &mut PanelState, out: &mut Vec<Action>) {
     let narrow = ui.available_width() < SIDE_BY_SIDE;
     ui.horizontal(|ui| {
         ui.strong("Plots");
@@ -192,10 +192,10 @@ fn plots(ui: &mut Ui, session: &Session, tab: &mut usize, out: &mut Vec<Action>)
                 .into_iter()
                 .enumerate()
             {
-                ui.selectable_value(tab, k, name);
+                ui.selectable_value(&mut state.plot_tab, k, name);
             }
         }
-        match &session.saved_note {
+        match &state.saved_note {
             Some(note) => {
                 ui.weak(note);
             }
@@ -212,7 +212,7 @@ fn plots(ui: &mut Ui, session: &Session, tab: &mut usize, out: &mut Vec<Action>)
     let height = (ui.max_rect().height() - 30.0).max(150.0);
     let lanes = session.lanes();
     if narrow {
-        match *tab {
+        match state.plot_tab {
             0 => error_plot(ui, lanes, height),
             1 => energy_plot(ui, lanes, height),
             _ => work_precision_plot(ui, lanes, height),
