@@ -15,7 +15,9 @@
 
 mod control;
 pub mod display;
+mod drill;
 mod frame;
+mod host;
 pub mod input;
 pub mod panel;
 mod pick;
@@ -23,6 +25,9 @@ pub mod script;
 pub mod session;
 pub mod setup_drag;
 pub mod surface;
+mod timing;
+mod ui;
+mod view;
 pub mod watch;
 
 use std::path::{Path, PathBuf};
@@ -30,27 +35,30 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use winit::application::ApplicationHandler;
-use winit::event::{MouseButton, WindowEvent};
+use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::window::{Window, WindowId};
 
 use crate::clock::LoopPolicy;
 use crate::integrate::Integrator;
 use crate::pacing::DrawMode;
-use crate::render::{GpuError, OrbitCamera, Viewport};
+use crate::render::GpuError;
 use crate::scene::Scene;
 use display::{EmulatedDisplay, Frames};
-use frame::viewport_of;
+use drill::SurfaceDrill;
+use frame::FrameUi;
+use host::Host;
 pub use input::Action;
-use panel::{FrameStats, PanelState};
+use panel::PanelState;
 pub use session::Session;
 use surface::WindowGpu;
+use timing::FrameTiming;
+use ui::UiState;
+use view::{SceneView, viewport_of};
 use watch::SceneWatch;
 
 /// Highest frame rate drawn when the display does not pace frames itself.
 pub const MAX_FPS: f64 = 250.0;
-/// Weight of the newest frame in the smoothed frame times.
-const SMOOTHING: f64 = 0.1;
 
 /// How the window runs.
 #[derive(Clone, Debug, PartialEq)]
@@ -263,18 +271,18 @@ pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummar
         v.sort_by(f64::total_cmp);
         v.get(v.len() / 2).copied()
     };
+    let timings = &app.timing.timings;
     Ok(RunSummary {
-        frames: app.stats.frames,
-        adapter: app.stats.adapter.clone(),
+        frames: app.timing.stats.frames,
+        adapter: app.timing.stats.adapter.clone(),
         // The first interval includes opening the window and the device.
-        interval_ms: median(&mut app.timings.iter().skip(1).map(|t| t.0).collect()),
-        work_ms: median(&mut app.timings.iter().map(|t| t.1).collect()),
-        ui_ms: median(&mut app.timings.iter().map(|t| t.2).collect()),
-        ui_triangles: median(&mut app.timings.iter().map(|t| t.3 as f64).collect())
-            .map(|t| t as usize),
+        interval_ms: median(&mut timings.iter().skip(1).map(|t| t.0).collect()),
+        work_ms: median(&mut timings.iter().map(|t| t.1).collect()),
+        ui_ms: median(&mut timings.iter().map(|t| t.2).collect()),
+        ui_triangles: median(&mut timings.iter().map(|t| t.3 as f64).collect()).map(|t| t as usize),
         recordings: app.session.recordings().to_vec(),
         replay: app.session.replay_verdict(),
-        probe: app.probe.as_ref().map(|p| p.lines()),
+        probe: app.ui.probe.as_ref().map(|p| p.lines()),
         pacing: app.pacing_line(),
         lanes: app
             .session
@@ -315,72 +323,31 @@ fn os_reason(e: &dyn std::fmt::Display) -> String {
     }
 }
 
-/// Mouse state between events.
-#[derive(Clone, Copy, Debug, Default)]
-struct Pointer {
-    position: Option<(f64, f64)>,
-    dragging: Option<MouseButton>,
-    /// The button held has moved the pointer (a drag, not a click).
-    moved: bool,
-    shift: bool,
-}
-
-/// What the view shows besides the bodies.
-#[derive(Clone, Copy, Debug)]
-struct Toggles {
-    trails: bool,
-    /// The closed-form ghosts: dashed trajectories and the sphere where the exact solution is.
-    ghosts: bool,
-    panel: bool,
-    plots: bool,
-    markers: bool,
-    vectors: bool,
-    /// The pacing view beside the plots.
-    pacing: bool,
-    /// The judder ghosts: the measured body's last drawn positions beside the exact ones.
-    judder: bool,
-}
-
+/// The window: one field per concern, each its own type.
 struct App {
+    /// How the window was asked to run.
     options: WindowOptions,
+    /// The simulations shown.
     session: Session,
-    panel: PanelState,
-    stats: FrameStats,
-    camera: OrbitCamera,
-    needs_framing: bool,
-    toggles: Toggles,
-    pointer: Pointer,
-    frames: Frames,
+    /// The panel, the view's toggles, the pointer, the probe and a setup drag.
+    ui: UiState,
+    /// The 3D view's camera and where it is drawn.
+    view: SceneView,
+    /// Where frames come from and how long they take.
+    timing: FrameTiming,
+    /// The scene file's watcher, while hot reload is on.
     watch: Option<SceneWatch>,
-    window: Option<Arc<Window>>,
-    gfx: Option<WindowGpu>,
-    egui: egui::Context,
-    egui_state: Option<egui_winit::State>,
-    viewport: Viewport,
-    screenshot: Option<PathBuf>,
-    last_frame: Instant,
-    /// (interval, work, UI) of each frame (ms) and its UI triangles, kept only when the run
-    /// has a frame limit.
-    timings: Vec<(f64, f64, f64, usize)>,
-    /// The UI's CPU time of the frame being drawn (ms).
-    ui_ms: f64,
-    /// The triangles of egui's meshes in the frame being drawn.
-    ui_triangles: usize,
-    /// Steps of `--surface-drill` done.
-    drill_step: u8,
-    /// The input script being played.
+    /// The window, its GPU side and egui.
+    host: Host,
+    /// The input script being played, with the egui input its clicks queued.
     script: script::Player,
-    /// What the probe reads: under the pointer, or pinned by a click.
-    probe: Option<crate::render::probe::Probe>,
-    /// The probe stays where it was clicked until the next click.
-    probe_pinned: bool,
-    /// A drag of the launcher, its handle or a target under way.
-    setup_drag: Option<setup_drag::SetupDrag>,
-    /// Synthetic egui input of scripted clicks, a batch a frame.
-    synthetic: std::collections::VecDeque<Vec<egui::Event>>,
-    /// The panel's named controls as the last frame laid them out.
-    controls: panel::Controls,
+    /// `--surface-drill`'s progress, if asked for.
+    drill: Option<SurfaceDrill>,
+    /// A screenshot asked for by its key, written after the next frame.
+    screenshot: Option<PathBuf>,
+    /// Close at the end of this event.
     quit: bool,
+    /// Why the window stopped, if it failed.
     outcome: Result<(), AppError>,
 }
 
@@ -410,41 +377,15 @@ impl App {
         let script = script::Player::new(options.script.clone());
         let frames = Frames::of(options.display.as_ref(), options.frame_rate);
         let mut app = App {
-            camera: OrbitCamera::framing(session.bounds(), 16.0 / 9.0),
+            view: SceneView::new(session.bounds()),
             session,
-            panel,
-            stats: FrameStats::default(),
-            needs_framing: true,
-            toggles: Toggles {
-                trails: true,
-                ghosts: true,
-                panel: true,
-                plots: true,
-                markers: true,
-                vectors: false,
-                pacing: false,
-                judder: false,
-            },
-            pointer: Pointer::default(),
-            frames,
+            ui: UiState::new(panel),
+            timing: FrameTiming::new(frames),
             watch: None,
-            window: None,
-            gfx: None,
-            egui: egui::Context::default(),
-            egui_state: None,
-            viewport: Viewport::full(1, 1),
+            host: Host::new(),
             screenshot: None,
-            last_frame: Instant::now(),
-            timings: Vec::new(),
-            ui_ms: 0.0,
-            ui_triangles: 0,
-            probe: None,
-            probe_pinned: false,
-            setup_drag: None,
-            synthetic: std::collections::VecDeque::new(),
-            controls: panel::Controls::default(),
             script,
-            drill_step: 0,
+            drill: options.surface_drill.then(SurfaceDrill::default),
             quit: false,
             outcome: Ok(()),
             options,
@@ -456,8 +397,9 @@ impl App {
     /// Watches the session's scene file (if watching is on and the scene has a file of its
     /// own); failure is a note, not an error.
     fn rewatch(&mut self) {
+        let note = &mut self.ui.panel.file_note;
         if self.session.is_embedded() {
-            self.panel.file_note = Some(("the recording's scene: no hot reload".into(), true));
+            *note = Some(("the recording's scene: no hot reload".into(), true));
             self.watch = None;
             return;
         }
@@ -466,11 +408,11 @@ impl App {
         }
         match SceneWatch::new(self.session.path()) {
             Ok(w) => {
-                self.panel.file_note = Some(("watching for changes".into(), true));
+                *note = Some(("watching for changes".into(), true));
                 self.watch = Some(w);
             }
             Err(e) => {
-                self.panel.file_note = Some((format!("hot reload off: {e}"), false));
+                *note = Some((format!("hot reload off: {e}"), false));
                 self.watch = None;
             }
         }
@@ -486,17 +428,17 @@ impl App {
                     "another scene was picked"
                 };
                 self.session.restart(Some((scene, path.to_path_buf())), why);
-                self.panel.sync(&self.session);
+                self.ui.panel.sync(&self.session);
                 if reload {
                     let at = self.session.world().tick();
-                    self.panel.file_note = Some((format!("reloaded (tick {at})"), true));
+                    self.ui.panel.file_note = Some((format!("reloaded (tick {at})"), true));
                 } else {
                     self.rewatch();
-                    self.needs_framing = true;
+                    self.view.needs_framing = true;
                 }
                 self.retitle();
             }
-            Err(e) => self.panel.file_note = Some((e.to_string(), false)),
+            Err(e) => self.ui.panel.file_note = Some((e.to_string(), false)),
         }
     }
 
@@ -513,13 +455,11 @@ impl App {
     }
 
     fn retitle(&self) {
-        if let Some(w) = &self.window {
-            w.set_title(&self.title());
-        }
+        self.host.retitle(&self.title());
     }
 
     fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<(), AppError> {
-        let window = match &self.window {
+        let window = match &self.host.window {
             Some(w) => w.clone(),
             None => {
                 let (w, h) = self.options.size;
@@ -538,28 +478,13 @@ impl App {
             .and_then(|m| m.refresh_rate_millihertz())
             .map(|mhz| f64::from(mhz) / 1e3);
         if let (Frames::Clock(_), None, Some(hz)) =
-            (&self.frames, self.options.frame_rate, monitor_hz)
+            (&self.timing.frames, self.options.frame_rate, monitor_hz)
         {
             self.session.set_refresh(display::believed_refresh(hz));
         }
         let gfx = WindowGpu::new(event_loop, window.clone()).map_err(AppError::Gpu)?;
-        self.stats.adapter = gfx.gpu.describe();
-        if self.egui_state.is_some() {
-            // A new device after a suspension: a new context, so egui sends its font atlas to
-            // the new renderer (it never sends a texture twice).
-            self.egui = egui::Context::default();
-        }
-        let max_texture = gfx.gpu.device.limits().max_texture_dimension_2d as usize;
-        self.egui_state = Some(egui_winit::State::new(
-            self.egui.clone(),
-            egui::ViewportId::ROOT,
-            &window,
-            Some(window.scale_factor() as f32),
-            window.theme(),
-            Some(max_texture),
-        ));
-        self.gfx = Some(gfx);
-        self.window = Some(window);
+        self.timing.stats.adapter = gfx.gpu.describe();
+        self.host.attach(window, gfx);
         Ok(())
     }
 
@@ -572,92 +497,76 @@ impl App {
         }
     }
 
+    /// One frame, stage by stage.
     fn redraw(&mut self) {
         let start = Instant::now();
+        self.advance(start);
+        let Some(window) = self.host.window.clone() else {
+            return;
+        };
+        let Some(mut ui) = self.build_ui(&window) else {
+            return;
+        };
+        self.upload_ui_textures(&mut ui.textures);
+        self.place_view(ui.rest, ui.ppp);
+        if let Some(screen) = self.present(&ui.primitives, ui.ppp) {
+            let drawn = FrameUi {
+                primitives: &ui.primitives,
+                screen: &screen,
+            };
+            self.after_present(&drawn);
+            self.drill();
+        }
+        self.free_ui_textures(ui.textures);
+        let keep = self.options.exit_after_frames.is_some();
+        self.timing.end_frame(start, &window, keep);
+    }
+
+    /// Advances the loop: the script's actions due now, the frame's delta, a saved scene
+    /// reloaded, the lanes run for the delta; the panel's values follow the session unless
+    /// commands still wait for a tick.
+    fn advance(&mut self, start: Instant) {
         for action in self.script.due() {
             self.apply(action);
         }
-        let frame = self.frames.next_frame();
+        let frame = self.timing.frames.next_frame();
         self.check_reload(start);
         self.session.frame_shown(frame.delta, frame.shown);
         if self.session.lanes().iter().all(|l| l.pending() == 0) {
-            let (dt_ms, substeps) = (self.panel.dt_ms, self.panel.substeps);
-            let pick = self.panel.compare_pick.clone();
-            self.panel.sync(&self.session);
+            let panel = &mut self.ui.panel;
+            let (dt_ms, substeps) = (panel.dt_ms, panel.substeps);
+            let pick = panel.compare_pick.clone();
+            panel.sync(&self.session);
             // The step fields keep what is being typed until it is applied.
-            (self.panel.dt_ms, self.panel.substeps) = (dt_ms, substeps);
-            self.panel.compare_pick = pick;
+            (panel.dt_ms, panel.substeps) = (dt_ms, substeps);
+            panel.compare_pick = pick;
         }
-        let (Some(window), Some(egui_state)) = (self.window.clone(), self.egui_state.as_mut())
-        else {
-            return;
-        };
+    }
+
+    /// Builds the UI: the probe, the panels laid out with the script's queued input, what they
+    /// asked for applied, and their shapes tessellated; the UI's time and triangles are
+    /// measured. Nothing without egui's state (before the window opened).
+    fn build_ui(&mut self, window: &Window) -> Option<BuiltUi> {
+        self.host.egui_state.as_ref()?;
         let ui_start = Instant::now();
-        if !self.probe_pinned {
-            let over_view = self.pointer.position.is_some_and(|(x, y)| {
-                let v = &self.viewport;
-                let (x, y) = (x as f32, y as f32);
-                x >= v.x && x < v.x + v.width && y >= v.y && y < v.y + v.height
-            });
-            self.probe = match self.pointer.position {
-                Some((x, y)) if over_view && self.pointer.dragging.is_none() => pick::pick(
-                    &self.session,
-                    &self.camera,
-                    &self.viewport,
-                    (x as f32, y as f32),
-                    pick::PICK_RADIUS * self.stats.scale.max(1.0) as f32,
-                ),
-                _ => None,
-            };
-        }
-        let mut raw = egui_state.take_egui_input(&window);
-        if let Some(events) = self.synthetic.pop_front() {
+        let scale = self.timing.stats.scale;
+        self.ui.update_probe(&self.session, &self.view, scale);
+        let egui_state = self.host.egui_state.as_mut()?;
+        let mut raw = egui_state.take_egui_input(window);
+        if let Some(events) = self.script.next_input() {
             raw.events.extend(events);
         }
         let mut actions = Vec::new();
         let mut rest = egui::Rect::NOTHING;
-        let show_panel = self.toggles.panel;
-        let show_plots = self.toggles.plots;
-        let show_pacing = self.toggles.pacing;
-        self.panel.pacing_view = show_pacing;
-        self.panel.judder_ghosts = self.toggles.judder;
-        let output = self.egui.run_ui(raw, |ui| {
-            if show_panel {
-                egui::Panel::left("panel")
-                    .default_size(340.0)
-                    .show(ui, |ui| {
-                        panel::show(
-                            ui,
-                            &mut self.panel,
-                            &self.session,
-                            &self.stats,
-                            &mut actions,
-                        )
-                    });
-            }
-            if show_plots || show_pacing {
-                egui::Panel::bottom("plots")
-                    .resizable(true)
-                    .default_size(240.0)
-                    .min_size(190.0)
-                    .show(ui, |ui| {
-                        let shown = panel::plots::BottomPanel {
-                            plots: show_plots,
-                            pacing: show_pacing,
-                        };
-                        panel::plots::show(ui, &self.session, &mut self.panel, shown, &mut actions)
-                    });
-            }
-            rest = ui.available_rect_before_wrap();
-            panel::overlay(ui.ctx(), rest, &self.session);
-            if let (Some(probe), Some((x, y))) = (&self.probe, self.pointer.position) {
-                let ppp = ui.ctx().pixels_per_point();
-                let at = egui::pos2(x as f32 / ppp + 16.0, y as f32 / ppp + 16.0);
-                panel::probe_box(ui.ctx(), at, probe, self.probe_pinned);
-            }
+        self.ui.panel.pacing_view = self.ui.toggles.pacing;
+        self.ui.panel.judder_ghosts = self.ui.toggles.judder;
+        let output = self.host.egui.run_ui(raw, |ui| {
+            rest = self
+                .ui
+                .lay_out(ui, &self.session, &self.timing.stats, &mut actions);
         });
-        egui_state.handle_platform_output(&window, output.platform_output);
-        self.controls = panel::take_controls(&self.egui);
+        egui_state.handle_platform_output(window, output.platform_output);
+        self.ui.controls = panel::take_controls(&self.host.egui);
         // The UI's time leaves out what its actions do (a seek, an aim): that is simulation.
         let laid_out = ui_start.elapsed();
         for action in actions {
@@ -665,32 +574,47 @@ impl App {
         }
         let tessellating = Instant::now();
         let ppp = output.pixels_per_point;
-        let primitives = self.egui.tessellate(output.shapes, ppp);
-        self.ui_ms = (laid_out + tessellating.elapsed()).as_secs_f64() * 1e3;
-        self.ui_triangles = primitives
+        let primitives = self.host.egui.tessellate(output.shapes, ppp);
+        self.timing.ui_ms = (laid_out + tessellating.elapsed()).as_secs_f64() * 1e3;
+        self.timing.ui_triangles = primitives
             .iter()
             .map(|p| match &p.primitive {
                 egui::epaint::Primitive::Mesh(m) => m.indices.len() / 3,
                 egui::epaint::Primitive::Callback(_) => 0,
             })
             .sum();
-        let mut textures = output.textures_delta;
-        if let Some(gfx) = self.gfx.as_mut() {
+        Some(BuiltUi {
+            primitives,
+            textures: output.textures_delta,
+            ppp,
+            rest,
+        })
+    }
+
+    /// Sends egui's new and changed textures to its renderer.
+    fn upload_ui_textures(&mut self, textures: &mut egui::TexturesDelta) {
+        if let Some(gfx) = self.host.gfx.as_mut() {
             for (id, deltas) in textures.set.drain() {
                 for delta in &deltas {
                     gfx.egui
                         .update_texture(&gfx.gpu.device, &gfx.gpu.queue, id, delta);
                 }
             }
-            self.viewport = viewport_of(rest, ppp, gfx.size());
         }
-        if self.needs_framing && self.viewport.is_visible() {
-            let aspect = f64::from(self.viewport.aspect());
-            self.camera = OrbitCamera::framing(self.session.bounds(), aspect);
-            self.needs_framing = false;
+    }
+
+    /// Fits the 3D view into what the panels left (`rest`, points at `ppp` pixels per point),
+    /// framing the scene if asked to.
+    fn place_view(&mut self, rest: egui::Rect, ppp: f32) {
+        if let Some(gfx) = self.host.gfx.as_ref() {
+            self.view.viewport = viewport_of(rest, ppp, gfx.size());
         }
-        self.present(&primitives, ppp);
-        if let Some(gfx) = self.gfx.as_mut() {
+        self.view.frame_if_asked(self.session.bounds());
+    }
+
+    /// Frees the textures egui no longer uses, once the frame that may use them was drawn.
+    fn free_ui_textures(&mut self, mut textures: egui::TexturesDelta) {
+        if let Some(gfx) = self.host.gfx.as_mut() {
             for id in textures.free.drain() {
                 gfx.egui.free_texture(&id);
             }
@@ -698,30 +622,18 @@ impl App {
         // Without a device (suspended) the deltas have nowhere to go; the context is replaced
         // when the device comes back.
         textures.clear();
-        self.update_stats(start, &window);
     }
 
-    fn update_stats(&mut self, start: Instant, window: &Window) {
-        let blend = |old: f64, new: f64| {
-            if old == 0.0 {
-                new
-            } else {
-                old + SMOOTHING * (new - old)
-            }
+    /// `--surface-drill`'s next step, after a presented frame.
+    fn drill(&mut self) {
+        let (Some(drill), Some(window), Some(gfx)) = (
+            self.drill.as_mut(),
+            self.host.window.as_deref(),
+            self.host.gfx.as_mut(),
+        ) else {
+            return;
         };
-        let interval = start.duration_since(self.last_frame).as_secs_f64() * 1e3;
-        let work = start.elapsed().as_secs_f64() * 1e3;
-        self.stats.interval_ms = blend(self.stats.interval_ms, interval);
-        self.stats.work_ms = blend(self.stats.work_ms, work);
-        self.stats.ui_ms = blend(self.stats.ui_ms, self.ui_ms);
-        if self.options.exit_after_frames.is_some() {
-            self.timings
-                .push((interval, work, self.ui_ms, self.ui_triangles));
-        }
-        let size = window.inner_size();
-        self.stats.size = (size.width, size.height);
-        self.stats.scale = window.scale_factor();
-        self.last_frame = start;
+        drill.after_frame(self.timing.stats.frames, self.options.size, window, gfx);
     }
 
     /// The closing summary's pacing line.
@@ -743,21 +655,29 @@ impl App {
             "pacing: {} + {} on {}, body {}, ticks/frame {}, 0-2 swings {}, {error}",
             s.policy().name(),
             mode.name(),
-            self.panel.frames_note,
+            self.ui.panel.frames_note,
             log.body,
             log.cadence(),
             log.swings(),
         )
     }
+}
 
-    fn visible(&self) -> bool {
-        self.gfx.as_ref().is_some_and(WindowGpu::is_drawable)
-    }
+/// A frame's UI, built and tessellated, waiting to be drawn.
+struct BuiltUi {
+    /// egui's meshes.
+    primitives: Vec<egui::ClippedPrimitive>,
+    /// The textures egui sets and frees this frame.
+    textures: egui::TexturesDelta,
+    /// Pixels per point.
+    ppp: f32,
+    /// What the panels left for the 3D view (points).
+    rest: egui::Rect,
 }
 
 impl ApplicationHandler for App {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
-        if self.gfx.is_some() {
+        if self.host.gfx.is_some() {
             return;
         }
         if let Err(e) = self.open(event_loop) {
@@ -776,11 +696,12 @@ impl ApplicationHandler for App {
 
     fn suspended(&mut self, _event_loop: &ActiveEventLoop) {
         // The surface may not outlive a suspension (Android); it is rebuilt on `resumed`.
-        self.gfx = None;
+        self.host.gfx = None;
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
-        let (Some(window), Some(egui_state)) = (self.window.clone(), self.egui_state.as_mut())
+        let (Some(window), Some(egui_state)) =
+            (self.host.window.clone(), self.host.egui_state.as_mut())
         else {
             return;
         };
@@ -788,7 +709,7 @@ impl ApplicationHandler for App {
         match &event {
             WindowEvent::CloseRequested => self.quit = true,
             WindowEvent::Resized(size) => {
-                if let Some(gfx) = self.gfx.as_mut() {
+                if let Some(gfx) = self.host.gfx.as_mut() {
                     gfx.resize(size.width, size.height);
                 }
             }
@@ -796,13 +717,13 @@ impl ApplicationHandler for App {
             WindowEvent::KeyboardInput { event, .. }
                 if event.state.is_pressed()
                     && !consumed
-                    && !self.egui.egui_wants_keyboard_input() =>
+                    && !self.host.egui.egui_wants_keyboard_input() =>
             {
                 if let Some(action) = input::action_for_key(&event.logical_key) {
                     self.apply(action);
                 }
             }
-            _ => self.on_pointer(&event, consumed || self.egui.is_pointer_over_egui()),
+            _ => self.on_pointer(&event, consumed || self.host.egui.is_pointer_over_egui()),
         }
         if self.quit {
             event_loop.exit();
@@ -814,15 +735,15 @@ impl ApplicationHandler for App {
             event_loop.exit();
             return;
         }
-        let Some(window) = &self.window else {
+        let Some(window) = &self.host.window else {
             return;
         };
-        if !self.visible() {
+        if !self.host.visible() {
             // Minimised: nothing to draw; the next resize event wakes the loop.
             event_loop.set_control_flow(ControlFlow::Wait);
             return;
         }
-        let due = self.last_frame + Duration::from_secs_f64(1.0 / MAX_FPS);
+        let due = self.timing.last_frame + Duration::from_secs_f64(1.0 / MAX_FPS);
         if Instant::now() >= due {
             event_loop.set_control_flow(ControlFlow::Poll);
             window.request_redraw();

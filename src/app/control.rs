@@ -16,7 +16,7 @@ impl App {
             Action::Step => s.single_step(),
             Action::SetLaneStep { lane, dt, substeps } => {
                 s.set_lane_step(lane, dt, substeps);
-                self.panel.sync(&self.session);
+                self.ui.panel.sync(&self.session);
             }
             Action::SetEqualCost(on) => s.set_equal_cost(on),
             Action::Seek(tick) => s.seek(tick),
@@ -43,7 +43,7 @@ impl App {
                 position: None,
             }),
             Action::NudgeLaunch(ds, de, da) => {
-                let p = &mut self.panel;
+                let p = &mut self.ui.panel;
                 p.speed = (p.speed + ds).max(0.0);
                 p.elevation_deg = (p.elevation_deg + de).clamp(-90.0, 90.0);
                 p.azimuth_deg += da;
@@ -55,13 +55,13 @@ impl App {
                 });
             }
             Action::Fire => s.push(Command::Fire),
-            Action::Aim(arc) => s.aim(arc, self.panel.aim_target),
+            Action::Aim(arc) => s.aim(arc, self.ui.panel.aim_target),
             Action::Reset => s.reset(),
             Action::ToggleRecord => s.toggle_recording(),
             Action::Replay(path) => self.replay(&path),
             Action::GoLive => {
                 if s.go_live() {
-                    self.panel.sync(&self.session);
+                    self.ui.panel.sync(&self.session);
                     self.retitle();
                 } else {
                     s.last_error = Some("go live: nothing is replaying".into());
@@ -73,48 +73,51 @@ impl App {
                 let list = if s.is_comparing() {
                     Vec::new()
                 } else {
-                    self.panel.compare_pick.clone()
+                    self.ui.panel.compare_pick.clone()
                 };
                 s.set_compare(list);
             }
-            Action::ToggleTrails => self.toggles.trails = !self.toggles.trails,
-            Action::ToggleGhosts => self.toggles.ghosts = !self.toggles.ghosts,
-            Action::TogglePanel => self.toggles.panel = !self.toggles.panel,
-            Action::TogglePlots => self.toggles.plots = !self.toggles.plots,
-            Action::ToggleMarkers => self.toggles.markers = !self.toggles.markers,
-            Action::ToggleVectors => self.toggles.vectors = !self.toggles.vectors,
+            Action::ToggleTrails => self.ui.toggles.trails = !self.ui.toggles.trails,
+            Action::ToggleGhosts => self.ui.toggles.ghosts = !self.ui.toggles.ghosts,
+            Action::TogglePanel => self.ui.toggles.panel = !self.ui.toggles.panel,
+            Action::TogglePlots => self.ui.toggles.plots = !self.ui.toggles.plots,
+            Action::ToggleMarkers => self.ui.toggles.markers = !self.ui.toggles.markers,
+            Action::ToggleVectors => self.ui.toggles.vectors = !self.ui.toggles.vectors,
             Action::SetPolicy(name) => s.set_policy_named(&name),
             Action::SetDrawMode(mode) => s.set_draw_mode(mode),
-            Action::TogglePacing => self.toggles.pacing = !self.toggles.pacing,
-            Action::ToggleJudder => self.toggles.judder = !self.toggles.judder,
+            Action::TogglePacing => self.ui.toggles.pacing = !self.ui.toggles.pacing,
+            Action::ToggleJudder => self.ui.toggles.judder = !self.ui.toggles.judder,
             Action::SetPacingBody(i) => s.set_pacing_body(i),
             Action::HoverBody(n) => {
-                let at = super::pick::body_on_screen(s, &self.camera, &self.viewport, n);
+                let at = super::pick::body_on_screen(s, &self.view.camera, &self.view.viewport, n);
                 self.hover_script(at, format!("hover body {n}"));
             }
             Action::HoverMarker(kind) => {
-                let at = super::pick::marker_on_screen(s, &self.camera, &self.viewport, kind);
+                let at =
+                    super::pick::marker_on_screen(s, &self.view.camera, &self.view.viewport, kind);
                 let name = super::pick::marker_name(kind);
                 self.hover_script(at, format!("hover marker ({name})"));
             }
-            Action::PinProbe => self.probe_pinned = self.probe.is_some() && !self.probe_pinned,
+            Action::PinProbe => {
+                self.ui.probe_pinned = self.ui.probe.is_some() && !self.ui.probe_pinned
+            }
             Action::Drag(grab, dx, dy) => self.scripted_drag(grab, dx, dy),
             Action::Click(at) => self.scripted_click(&at),
             Action::SaveSetup => {
                 let dir = s.recordings_dir.clone();
-                self.panel.saved_note = Some(match s.save_setup(&dir) {
+                self.ui.panel.saved_note = Some(match s.save_setup(&dir) {
                     Ok(path) => format!("saved the setup to {}", path.display()),
                     Err(e) => format!("could not save the setup: {e}"),
                 });
             }
             Action::SavePlots => {
                 let dir = s.recordings_dir.clone();
-                self.panel.saved_note = Some(match super::panel::plots::write(&dir, s) {
+                self.ui.panel.saved_note = Some(match super::panel::plots::write(&dir, s) {
                     Ok((csv, png)) => format!("saved {} and {}", csv.display(), png.display()),
                     Err(e) => format!("could not save the plots: {e}"),
                 });
             }
-            Action::FrameScene => self.needs_framing = true,
+            Action::FrameScene => self.view.needs_framing = true,
             Action::Screenshot => {
                 let tick = s.world().tick();
                 self.screenshot = Some(PathBuf::from(format!("volley-tick{tick}.png")));
@@ -125,7 +128,7 @@ impl App {
 
     fn set_step(&mut self, dt: f64, substeps: u32) {
         match self.session.set_step(dt, substeps) {
-            Ok(()) => self.panel.sync(&self.session),
+            Ok(()) => self.ui.panel.sync(&self.session),
             Err(e) => self.session.last_error = Some(e),
         }
     }
@@ -134,10 +137,10 @@ impl App {
     fn replay(&mut self, path: &std::path::Path) {
         match self.session.start_replay(path, None) {
             Ok(()) => {
-                self.panel.sync(&self.session);
+                self.ui.panel.sync(&self.session);
                 self.rewatch();
                 self.retitle();
-                self.needs_framing = true;
+                self.view.needs_framing = true;
             }
             Err(e) => self.session.last_error = Some(e.to_string()),
         }
@@ -150,7 +153,7 @@ impl App {
         use super::input::ClickAt;
         let point = match at {
             ClickAt::Point(x, y) => egui::pos2(*x, *y),
-            ClickAt::Control(label) => match self.controls.0.iter().find(|(l, _)| l == label) {
+            ClickAt::Control(label) => match self.ui.controls.0.iter().find(|(l, _)| l == label) {
                 Some((_, rect)) => rect.center(),
                 None => {
                     self.session.last_error = Some(format!("click {label}: no such control shown"));
@@ -158,20 +161,20 @@ impl App {
                 }
             },
         };
-        let ppp = self.egui.pixels_per_point();
+        let ppp = self.host.egui.pixels_per_point();
         let (px, py) = (point.x * ppp, point.y * ppp);
-        let v = &self.viewport;
+        let v = &self.view.viewport;
         let on_view = matches!(at, ClickAt::Point(..))
             && px >= v.x
             && px < v.x + v.width
             && py >= v.y
             && py < v.y + v.height;
         if on_view {
-            self.pointer.position = Some((f64::from(px), f64::from(py)));
-            self.probe = super::pick::pick(
+            self.ui.pointer.position = Some((f64::from(px), f64::from(py)));
+            self.ui.probe = super::pick::pick(
                 &self.session,
-                &self.camera,
-                &self.viewport,
+                &self.view.camera,
+                &self.view.viewport,
                 (px, py),
                 super::pick::PICK_RADIUS * ppp,
             );
@@ -184,9 +187,9 @@ impl App {
             pressed,
             modifiers: egui::Modifiers::NONE,
         };
-        self.synthetic
-            .push_back(vec![egui::Event::PointerMoved(point), button(true)]);
-        self.synthetic.push_back(vec![button(false)]);
+        self.script
+            .queue_input(vec![egui::Event::PointerMoved(point), button(true)]);
+        self.script.queue_input(vec![button(false)]);
     }
 
     /// Where `grab` is drawn now (physical px).
@@ -202,7 +205,7 @@ impl App {
                 .get(i)?
                 .center_at(world.tick() as f64 * world.dt()),
         };
-        self.camera.project(p, &self.viewport)
+        self.view.camera.project(p, &self.view.viewport)
     }
 
     /// A script's drag: press on `grab`, move by (dx, dy), release.
@@ -214,23 +217,23 @@ impl App {
         let world = self.session.world();
         let mut drag = SetupDrag::begin(grab, start, *world.launcher(), &world.contacts().targets);
         drag.update(
-            &self.camera,
-            &self.viewport,
+            &self.view.camera,
+            &self.view.viewport,
             start + glam::Vec2::new(dx, dy),
         );
-        self.setup_drag = Some(drag);
+        self.ui.setup_drag = Some(drag);
         self.end_setup_drag();
     }
 
     /// Ends a drag: the launcher's change as a `launch` command, a target's as a setup change.
     fn end_setup_drag(&mut self) {
-        let Some(drag) = self.setup_drag.take() else {
+        let Some(drag) = self.ui.setup_drag.take() else {
             return;
         };
         match drag.preview {
             Preview::Target(i, at) => {
                 self.session.move_target(i, at);
-                self.panel.sync(&self.session);
+                self.ui.panel.sync(&self.session);
             }
             Preview::Launcher(_) => {
                 if let Some(command) = drag.command() {
@@ -242,7 +245,7 @@ impl App {
 
     /// The drag's preview of the launcher, for drawing.
     pub(super) fn dragged_launcher(&self) -> Option<crate::scene::Launcher> {
-        match self.setup_drag?.preview {
+        match self.ui.setup_drag?.preview {
             Preview::Launcher(l) => Some(l),
             Preview::Target(..) => None,
         }
@@ -250,7 +253,7 @@ impl App {
 
     /// The drag's preview of a target's place, for drawing.
     pub(super) fn dragged_target(&self) -> Option<glam::DVec3> {
-        match self.setup_drag?.preview {
+        match self.ui.setup_drag?.preview {
             Preview::Target(_, at) => Some(at),
             Preview::Launcher(_) => None,
         }
@@ -258,14 +261,14 @@ impl App {
 
     /// What a press at the pointer would grab (live runs only).
     fn grab_under_pointer(&self) -> Option<Grab> {
-        let (x, y) = self.pointer.position?;
+        let (x, y) = self.ui.pointer.position?;
         if self.session.replay().is_some() {
             return None;
         }
         let world = self.session.world();
         super::setup_drag::grab_at(
-            &self.camera,
-            &self.viewport,
+            &self.view.camera,
+            &self.view.viewport,
             glam::Vec2::new(x as f32, y as f32),
             world.launcher(),
             &world.contacts().targets,
@@ -277,85 +280,87 @@ impl App {
     /// A script's hover: the pointer goes to `at`, or the panel says it could not.
     fn hover_script(&mut self, at: Option<(f32, f32)>, what: String) {
         match at {
-            Some((x, y)) => self.pointer.position = Some((f64::from(x), f64::from(y))),
+            Some((x, y)) => self.ui.pointer.position = Some((f64::from(x), f64::from(y))),
             None => self.session.last_error = Some(format!("{what}: nothing there to hover")),
         }
     }
 
     pub(super) fn on_pointer(&mut self, event: &WindowEvent, over_ui: bool) {
         match *event {
-            WindowEvent::ModifiersChanged(m) => self.pointer.shift = m.state().shift_key(),
+            WindowEvent::ModifiersChanged(m) => self.ui.pointer.shift = m.state().shift_key(),
             WindowEvent::MouseInput { state, button, .. }
                 if button == MouseButton::Left
                     && state == ElementState::Released
-                    && self.setup_drag.is_some() =>
+                    && self.ui.setup_drag.is_some() =>
             {
                 self.end_setup_drag();
-                self.pointer.dragging = None;
+                self.ui.pointer.dragging = None;
             }
             WindowEvent::MouseInput { state, button, .. }
                 if button == MouseButton::Left
                     && state == ElementState::Pressed
                     && !over_ui
-                    && !self.pointer.shift
+                    && !self.ui.pointer.shift
                     && self.grab_under_pointer().is_some() =>
             {
                 if let (Some(grab), Some((x, y))) =
-                    (self.grab_under_pointer(), self.pointer.position)
+                    (self.grab_under_pointer(), self.ui.pointer.position)
                 {
                     let world = self.session.world();
                     let start = glam::Vec2::new(x as f32, y as f32);
                     let targets = &world.contacts().targets;
-                    self.setup_drag =
+                    self.ui.setup_drag =
                         Some(SetupDrag::begin(grab, start, *world.launcher(), targets));
                 }
             }
-            WindowEvent::CursorMoved { position, .. } if self.setup_drag.is_some() => {
+            WindowEvent::CursorMoved { position, .. } if self.ui.setup_drag.is_some() => {
                 let px = glam::Vec2::new(position.x as f32, position.y as f32);
-                let (camera, viewport) = (self.camera, self.viewport);
-                if let Some(drag) = self.setup_drag.as_mut() {
+                let (camera, viewport) = (self.view.camera, self.view.viewport);
+                if let Some(drag) = self.ui.setup_drag.as_mut() {
                     drag.update(&camera, &viewport, px);
                 }
-                self.pointer.position = Some((position.x, position.y));
+                self.ui.pointer.position = Some((position.x, position.y));
             }
             WindowEvent::MouseInput { state, button, .. } => {
                 // A left click that did not drag pins (or unpins) the probe.
                 if state == ElementState::Released
                     && button == MouseButton::Left
-                    && !self.pointer.moved
-                    && self.pointer.dragging.is_some()
+                    && !self.ui.pointer.moved
+                    && self.ui.pointer.dragging.is_some()
                 {
                     self.apply(Action::PinProbe);
                 }
-                self.pointer.dragging = match state {
+                self.ui.pointer.dragging = match state {
                     ElementState::Pressed if !over_ui => Some(button),
                     _ => None,
                 };
-                self.pointer.moved = false;
+                self.ui.pointer.moved = false;
             }
             WindowEvent::CursorMoved { position, .. } => {
                 let now = (position.x, position.y);
-                if let (Some(button), Some(last)) = (self.pointer.dragging, self.pointer.position) {
+                if let (Some(button), Some(last)) =
+                    (self.ui.pointer.dragging, self.ui.pointer.position)
+                {
                     let (dx, dy) = (now.0 - last.0, now.1 - last.1);
-                    self.pointer.moved |= dx.abs() + dy.abs() > 2.0;
-                    let orbit = button == MouseButton::Left && !self.pointer.shift;
+                    self.ui.pointer.moved |= dx.abs() + dy.abs() > 2.0;
+                    let orbit = button == MouseButton::Left && !self.ui.pointer.shift;
                     if orbit {
                         // Degrees per logical pixel, the same feel at any HiDPI scale.
-                        let scale = self.stats.scale.max(1.0);
-                        self.camera.orbit(dx / scale, dy / scale);
+                        let scale = self.timing.stats.scale.max(1.0);
+                        self.view.camera.orbit(dx / scale, dy / scale);
                     } else {
-                        let h = f64::from(self.viewport.height.max(1.0));
-                        self.camera.pan(dx, dy, h);
+                        let h = f64::from(self.view.viewport.height.max(1.0));
+                        self.view.camera.pan(dx, dy, h);
                     }
                 }
-                self.pointer.position = Some(now);
+                self.ui.pointer.position = Some(now);
             }
             WindowEvent::MouseWheel { delta, .. } if !over_ui => {
                 let steps = match delta {
                     MouseScrollDelta::LineDelta(_, y) => f64::from(y),
                     MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
                 };
-                self.camera.zoom(steps);
+                self.view.camera.zoom(steps);
             }
             _ => {}
         }

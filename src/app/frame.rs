@@ -4,19 +4,20 @@
 use std::path::Path;
 
 use super::{App, AppError};
-use crate::render::{DrawOptions, Image, OffscreenTarget, View, Viewport};
+use crate::render::{DrawOptions, Image, OffscreenTarget, View};
 
 impl App {
-    /// Draws the frame into the next surface texture and presents it (skipped while the
-    /// surface has nothing to give: minimised, occluded, rebuilt).
-    pub(super) fn present(&mut self, primitives: &[egui::ClippedPrimitive], ppp: f32) {
-        let Some(gfx) = self.gfx.as_mut() else {
-            return;
-        };
+    /// Draws the frame into the next surface texture and presents it, returning the screen it
+    /// was drawn for (nothing while the surface has nothing to give: minimised, occluded,
+    /// rebuilt).
+    pub(super) fn present(
+        &mut self,
+        primitives: &[egui::ClippedPrimitive],
+        ppp: f32,
+    ) -> Option<egui_wgpu::ScreenDescriptor> {
+        let gfx = self.host.gfx.as_mut()?;
         let size = gfx.size();
-        let Some(frame) = gfx.acquire() else {
-            return;
-        };
+        let frame = gfx.acquire()?;
         let screen = egui_wgpu::ScreenDescriptor {
             size_in_pixels: [size.0, size.1],
             pixels_per_point: ppp,
@@ -32,50 +33,18 @@ impl App {
             ui: &target,
         };
         self.draw(&targets, &ui);
-        if let Some(gfx) = self.gfx.as_mut() {
+        if let Some(gfx) = self.host.gfx.as_mut() {
             gfx.gpu.queue.present(frame);
             gfx.refresh();
         }
-        self.stats.frames += 1;
-        self.after_present(&ui);
-        if self.options.surface_drill {
-            self.drill();
-        }
-    }
-
-    /// `--surface-drill`: what a desktop does to a window, once each, three frames apart: a
-    /// resize; a minimise (a 0 x 0 size, as Windows reports it) with the restore after it; a
-    /// lost surface, rebuilt. The window has to draw on after each.
-    fn drill(&mut self) {
-        let (Some(window), Some(gfx)) = (self.window.clone(), self.gfx.as_mut()) else {
-            return;
-        };
-        if self.stats.frames < 3 * (u64::from(self.drill_step) + 1) {
-            return;
-        }
-        let (w, h) = self.options.size;
-        let request = |gfx: &mut super::WindowGpu, w: u32, h: u32| {
-            // Applied at once on some platforms; on others a `Resized` event follows.
-            if let Some(size) = window.request_inner_size(winit::dpi::LogicalSize::new(w, h)) {
-                gfx.resize(size.width, size.height);
-            }
-        };
-        match self.drill_step {
-            0 => request(gfx, w + 160, h + 100),
-            1 => {
-                gfx.resize(0, 0);
-                request(gfx, w, h);
-            }
-            2 => gfx.rebuild_surface(),
-            _ => return,
-        }
-        self.drill_step += 1;
+        self.timing.stats.frames += 1;
+        Some(screen)
     }
 
     /// Draws the scene and the panel into `target` (the surface, or a capture of it).
     fn draw(&mut self, target: &Targets<'_>, ui: &FrameUi<'_>) {
         let (dragged, ring) = (self.dragged_launcher(), self.dragged_target());
-        let Some(gfx) = self.gfx.as_mut() else {
+        let Some(gfx) = self.host.gfx.as_mut() else {
             return;
         };
         let lanes = self.session.draw_lanes();
@@ -83,9 +52,9 @@ impl App {
         // While commands wait for the next tick (paused), the launcher shows the panel's aim.
         let waiting = self.session.lanes().iter().any(|l| l.pending() > 0);
         let queued = waiting.then(|| crate::scene::Launcher {
-            speed: self.panel.speed,
-            elevation_deg: self.panel.elevation_deg,
-            azimuth_deg: self.panel.azimuth_deg,
+            speed: self.ui.panel.speed,
+            elevation_deg: self.ui.panel.elevation_deg,
+            azimuth_deg: self.ui.panel.azimuth_deg,
             ..*self.session.world().launcher()
         });
         // A drag under way shows its launcher first.
@@ -93,19 +62,19 @@ impl App {
         let options = DrawOptions {
             origin: bounds.center(),
             scale: bounds.radius(),
-            trails: self.toggles.trails,
-            ghosts: self.toggles.ghosts,
+            trails: self.ui.toggles.trails,
+            ghosts: self.ui.toggles.ghosts,
             aim,
-            markers: self.toggles.markers,
-            vectors: self.toggles.vectors.then(|| {
+            markers: self.ui.toggles.markers,
+            vectors: self.ui.toggles.vectors.then(|| {
                 crate::render::draw::ArrowScale::of(self.session.world(), bounds.radius())
             }),
-            highlight: ring.or(self.probe.as_ref().map(|p| p.at.p)),
-            judder: self.toggles.judder,
+            highlight: ring.or(self.ui.probe.as_ref().map(|p| p.at.p)),
+            judder: self.ui.toggles.judder,
         };
         let view = View {
-            camera: self.camera,
-            viewport: self.viewport,
+            camera: self.view.camera,
+            viewport: self.view.viewport,
             target_size: gfx.size(),
         };
         gfx.renderer.prepare(&gfx.gpu, &lanes, &view, &options);
@@ -145,11 +114,11 @@ impl App {
     }
 
     /// Screenshots and the frame limit, after a frame was presented.
-    fn after_present(&mut self, ui: &FrameUi<'_>) {
+    pub(super) fn after_present(&mut self, ui: &FrameUi<'_>) {
         let done = self
             .options
             .exit_after_frames
-            .is_some_and(|n| self.stats.frames >= n);
+            .is_some_and(|n| self.timing.stats.frames >= n);
         let path = match (self.screenshot.take(), done) {
             (Some(p), _) => Some(p),
             (None, true) => self.options.screenshot.clone(),
@@ -169,7 +138,7 @@ impl App {
     /// Draws the frame again into an offscreen texture of the surface's size and format, through
     /// the same [`App::draw`], and writes it as a PNG.
     fn capture(&mut self, path: &Path, ui: &FrameUi<'_>) -> Result<(), String> {
-        let Some(gfx) = self.gfx.as_ref() else {
+        let Some(gfx) = self.host.gfx.as_ref() else {
             return Ok(());
         };
         let target =
@@ -179,7 +148,7 @@ impl App {
             ui: target.view(),
         };
         self.draw(&targets, ui);
-        let Some(gfx) = self.gfx.as_ref() else {
+        let Some(gfx) = self.host.gfx.as_ref() else {
             return Ok(());
         };
         let image: Image = target.read(&gfx.gpu).map_err(|e| e.to_string())?;
@@ -198,23 +167,8 @@ struct Targets<'a> {
 
 /// The panel's share of a frame, for drawing it (again, for a capture).
 pub(super) struct FrameUi<'a> {
-    primitives: &'a [egui::ClippedPrimitive],
-    screen: &'a egui_wgpu::ScreenDescriptor,
-}
-
-/// The 3D viewport in physical pixels: egui's remaining rectangle (points) times the scale,
-/// clamped to the surface.
-pub(super) fn viewport_of(rest: egui::Rect, ppp: f32, size: (u32, u32)) -> Viewport {
-    let (w, h) = (size.0 as f32, size.1 as f32);
-    if !rest.is_positive() {
-        return Viewport::full(size.0, size.1);
-    }
-    let x = (rest.min.x * ppp).clamp(0.0, w).round();
-    let y = (rest.min.y * ppp).clamp(0.0, h).round();
-    Viewport {
-        x,
-        y,
-        width: ((rest.max.x * ppp).clamp(0.0, w).round() - x).max(0.0),
-        height: ((rest.max.y * ppp).clamp(0.0, h).round() - y).max(0.0),
-    }
+    /// egui's meshes.
+    pub(super) primitives: &'a [egui::ClippedPrimitive],
+    /// The surface's size and scale they are drawn for.
+    pub(super) screen: &'a egui_wgpu::ScreenDescriptor,
 }

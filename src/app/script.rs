@@ -25,6 +25,8 @@
 //! script does what the keyboard does. Steps run at the start of a frame, before the loop
 //! advances: every step up to the next `wait` runs in the same frame.
 
+use std::collections::VecDeque;
+
 use winit::keyboard::{Key, NamedKey};
 
 use crate::app::input::{self, Action, ClickAt};
@@ -303,12 +305,15 @@ fn hover_step(
     }
 }
 
-/// A script being played: where it is and how many frames it still waits.
+/// A script being played: where it is, how many frames it still waits, and the egui input its
+/// clicks queued for the frames to come.
 #[derive(Clone, Debug, Default)]
 pub struct Player {
     steps: Vec<Step>,
     next: usize,
     waiting: u64,
+    /// Synthetic egui input of scripted clicks, a batch a frame.
+    synthetic: VecDeque<Vec<egui::Event>>,
 }
 
 impl Player {
@@ -318,7 +323,18 @@ impl Player {
             steps,
             next: 0,
             waiting: 0,
+            synthetic: VecDeque::new(),
         }
+    }
+
+    /// Queues `events` for egui, after the batches queued before them, one batch a frame.
+    pub fn queue_input(&mut self, events: Vec<egui::Event>) {
+        self.synthetic.push_back(events);
+    }
+
+    /// The next frame's batch of queued egui input, if any.
+    pub fn next_input(&mut self) -> Option<Vec<egui::Event>> {
+        self.synthetic.pop_front()
     }
 
     /// The actions due this frame: every step up to the next wait (which then counts down one
