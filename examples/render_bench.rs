@@ -78,17 +78,7 @@ fn measure(
     let mut history = TickHistory::new(&sim.world, bounds.center());
     let mut clock = VirtualClock::Steady(scene.timestep);
     sim.run_until(30, &mut clock, &mut history).unwrap();
-    let options = DrawOptions {
-        origin: bounds.center(),
-        scale: bounds.radius(),
-        trails: true,
-        ghosts: true,
-        aim: None,
-        markers: false,
-        vectors: None,
-        highlight: None,
-        judder: false,
-    };
+    let options = DrawOptions::picture(bounds.center(), bounds.radius());
     let spheres_only = DrawOptions {
         trails: false,
         ghosts: false,

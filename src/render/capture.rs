@@ -271,17 +271,7 @@ impl FrameWriter {
         Ok(FrameWriter {
             history: TickHistory::new(world, bounds.center()),
             camera: OrbitCamera::framing(&bounds, f64::from(size.0) / f64::from(size.1.max(1))),
-            options: DrawOptions {
-                origin: bounds.center(),
-                scale: bounds.radius(),
-                trails: true,
-                ghosts: true,
-                aim: None,
-                markers: false,
-                vectors: None,
-                highlight: None,
-                judder: false,
-            },
+            options: DrawOptions::picture(bounds.center(), bounds.radius()),
             renderer,
             target,
             gpu,

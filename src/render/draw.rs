@@ -108,6 +108,34 @@ pub struct DrawOptions {
     pub judder: bool,
 }
 
+impl DrawOptions {
+    /// The bodies alone around `origin` at `scale`: no trails, ghosts, markers, arrows,
+    /// highlight or judder ghosts. Set the rest with struct update syntax.
+    pub fn bodies(origin: DVec3, scale: f64) -> DrawOptions {
+        DrawOptions {
+            origin,
+            scale,
+            trails: false,
+            ghosts: false,
+            aim: None,
+            markers: false,
+            vectors: None,
+            highlight: None,
+            judder: false,
+        }
+    }
+
+    /// What a picture made off screen shows (the golden image, `--frames`, the render bench):
+    /// the bodies with their trails and closed-form ghosts, around `origin` at `scale`.
+    pub fn picture(origin: DVec3, scale: f64) -> DrawOptions {
+        DrawOptions {
+            trails: true,
+            ghosts: true,
+            ..DrawOptions::bodies(origin, scale)
+        }
+    }
+}
+
 /// How long the arrows are drawn: metres of arrow per m/s of velocity and per newton of force.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArrowScale {
@@ -508,17 +536,7 @@ mod tests {
             colour: GHOST,
             judder: &[],
         };
-        let mut options = DrawOptions {
-            origin: DVec3::ZERO,
-            scale: 100.0,
-            trails: false,
-            ghosts: false,
-            aim: None,
-            markers: false,
-            vectors: None,
-            highlight: None,
-            judder: false,
-        };
+        let mut options = DrawOptions::bodies(DVec3::ZERO, 100.0);
         let mut list = DrawList::default();
         list.build(&[lane], &options);
         // The barrel is the first line: 6 m (0.06 x scale) along the launch direction.

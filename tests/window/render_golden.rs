@@ -79,17 +79,7 @@ fn the_seed_scene_at_tick_10_matches_its_golden_image() {
     sim.run_until(10, &mut VirtualClock::Steady(scene.timestep), &mut history)
         .unwrap();
     let size = (480, 270);
-    let options = DrawOptions {
-        origin: bounds.center(),
-        scale: bounds.radius(),
-        trails: true,
-        ghosts: true,
-        aim: None,
-        markers: false,
-        vectors: None,
-        highlight: None,
-        judder: false,
-    };
+    let options = DrawOptions::picture(bounds.center(), bounds.radius());
     let camera = OrbitCamera::framing(&bounds, 480.0 / 270.0);
     let image = draw(&gpu, &sim.world, &history, camera, &options, size);
     let golden = support::crate_path("tests/golden/seed_tick10.png");
@@ -148,17 +138,7 @@ fn a_body_at_a_known_world_position_lands_on_the_expected_pixel() {
         fov_y_deg: 90.0,
     };
     let expected = Vec2::new(110.0, 45.0);
-    let options = DrawOptions {
-        origin: DVec3::ZERO,
-        scale: 1.0,
-        trails: false,
-        ghosts: false,
-        aim: None,
-        markers: false,
-        vectors: None,
-        highlight: None,
-        judder: false,
-    };
+    let options = DrawOptions::bodies(DVec3::ZERO, 1.0);
     let size = (200, 100);
     let image = draw(
         &gpu,
@@ -237,17 +217,7 @@ fn frames_reuse_their_buffers_and_draw_every_lane_in_one_instance_list() {
         viewport: Viewport::full(64, 36),
         target_size: (64, 36),
     };
-    let options = DrawOptions {
-        origin: bounds.center(),
-        scale: bounds.radius(),
-        trails: true,
-        ghosts: true,
-        aim: None,
-        markers: false,
-        vectors: None,
-        highlight: None,
-        judder: false,
-    };
+    let options = DrawOptions::picture(bounds.center(), bounds.radius());
     let mut allocations = Vec::new();
     for tick in 1..=20 {
         for (sim, history) in &mut sims {

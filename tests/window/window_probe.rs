@@ -113,15 +113,8 @@ fn arrows_are_the_velocity_and_the_net_force_to_the_stated_scale() {
     // 8 % of 40 m over 30 m/s is 0.107 m per m/s: 0.1 after rounding down to 1, 2 or 5.
     assert_eq!(scale.velocity, 0.1);
     let options = |vectors| DrawOptions {
-        origin: DVec3::ZERO,
-        scale: 40.0,
-        trails: false,
-        ghosts: false,
-        aim: None,
-        markers: false,
         vectors,
-        highlight: None,
-        judder: false,
+        ..DrawOptions::bodies(DVec3::ZERO, 40.0)
     };
     let (mut without, mut with) = (DrawList::default(), DrawList::default());
     without.build(&[lane], &options(None));
