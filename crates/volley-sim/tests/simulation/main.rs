@@ -5,6 +5,7 @@
 mod support;
 
 mod aim;
+mod atmosphere;
 mod clock;
 mod convergence;
 mod events;
