@@ -62,11 +62,12 @@ pub mod rng;
 #[doc(hidden)]
 pub mod simd;
 
-// 2. Physics, each on the ones before it: the standard atmosphere and the declared force terms
-//    (only those are evaluated);
-//    closed forms, launch solutions, times of impact; the integrators; ground, walls, targets.
+// 2. Physics, each on the ones before it: the standard atmosphere, drag against Mach, the
+//    declared force terms (only those are evaluated); closed forms, launch solutions, times of impact; the integrators; ground, walls, targets.
 #[doc(hidden)]
 pub mod atmosphere;
+#[doc(hidden)]
+pub mod drag;
 #[doc(hidden)]
 pub mod forces;
 

@@ -8,6 +8,7 @@ mod aim;
 mod atmosphere;
 mod clock;
 mod convergence;
+mod drag;
 mod events;
 mod exact;
 mod firing;
