@@ -11,59 +11,15 @@
 use std::time::Duration;
 
 use crate::clock::{FrameSource, RealClock, VirtualClock};
-use crate::pacing::{DisplayModel, DisplayTiming, Present, SweepDisplay};
+use crate::pacing::{Present, SweepDisplay};
 
 /// Seconds of a display model's timing the window plays before starting it again: long enough
 /// for a 59.94 Hz display's two-tick frame (one every 16.7 s at 60 Hz ticks) to come round
 /// three times, and for the `60-hitch` model's hitch at 5 s.
 pub const MODEL_SECONDS: f64 = 60.0;
 
-/// The refresh a game believes in without a display model: 60 Hz (what Glaiel's constants and a
-/// monitor that reports nothing give).
-pub const DEFAULT_REFRESH: Duration = Duration::from_nanos(16_666_667);
-
-/// The refresh interval of a rate in hertz rounded to whole hertz, as
-/// [`DisplayModel::believed_refresh`] takes it (59.94 Hz is believed to be 60).
-pub fn believed_refresh(hz: f64) -> Duration {
-    if !hz.is_finite() || hz <= 0.0 {
-        return DEFAULT_REFRESH;
-    }
-    Duration::from_nanos((1e9 / hz.round().max(1.0)).round() as u64)
-}
-
-/// A display the window emulates: its name, its presents, and the refresh interval the snapping
-/// and quantising policies are given.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EmulatedDisplay {
-    /// The name the panel shows (`59.94`, or the capture's file and application).
-    pub name: String,
-    /// The presents, played in order and then again.
-    pub timing: DisplayTiming,
-    /// The refresh the game believes in: the model's rate rounded to whole hertz, or a
-    /// capture's median display interval so rounded.
-    pub refresh: Duration,
-}
-
-impl EmulatedDisplay {
-    /// [`MODEL_SECONDS`] of the display model `model`, called `name`.
-    pub fn model(name: &str, model: &DisplayModel) -> EmulatedDisplay {
-        EmulatedDisplay::of(SweepDisplay::model(name, model, MODEL_SECONDS))
-    }
-
-    /// A capture's timing ([`crate::pacing::read_capture`]).
-    pub fn capture(timing: DisplayTiming) -> EmulatedDisplay {
-        let name = timing.name.clone();
-        EmulatedDisplay::of(SweepDisplay::capture(&name, timing))
-    }
-
-    fn of(d: SweepDisplay) -> EmulatedDisplay {
-        EmulatedDisplay {
-            name: d.name,
-            timing: d.timing,
-            refresh: d.refresh,
-        }
-    }
-}
+/// The refresh believed without a display model, and for a rate in hertz: the loop lab's.
+pub use crate::pacing::display::{DEFAULT_REFRESH, believed_refresh};
 
 /// When a frame reached the screen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -101,7 +57,7 @@ pub struct DisplayFrames {
 impl DisplayFrames {
     /// Plays `display`'s presents from the first (whose delta is 0, as the real clock's first
     /// is).
-    pub fn new(display: &EmulatedDisplay) -> DisplayFrames {
+    pub fn new(display: &SweepDisplay) -> DisplayFrames {
         let presents = display.timing.presents.clone();
         let mut deltas: Vec<Duration> = display
             .timing
@@ -172,7 +128,7 @@ impl std::fmt::Debug for Frames {
 impl Frames {
     /// The frames a window with these options runs on: the display if one is emulated, else
     /// steady frames of `frame_rate`, else the real clock.
-    pub fn of(display: Option<&EmulatedDisplay>, frame_rate: Option<f64>) -> Frames {
+    pub fn of(display: Option<&SweepDisplay>, frame_rate: Option<f64>) -> Frames {
         match (display, frame_rate) {
             (Some(d), _) => Frames::Display(DisplayFrames::new(d)),
             (None, Some(hz)) => Frames::Clock(Box::new(VirtualClock::display(hz))),
@@ -195,10 +151,11 @@ impl Frames {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pacing::{DisplayModel, DisplayTiming};
 
-    fn display(presents: &[(u64, Option<u64>)]) -> EmulatedDisplay {
+    fn display(presents: &[(u64, Option<u64>)]) -> SweepDisplay {
         let ms = Duration::from_millis;
-        EmulatedDisplay {
+        SweepDisplay {
             name: "test".into(),
             timing: DisplayTiming {
                 name: "test".into(),
@@ -211,6 +168,7 @@ mod tests {
                     .collect(),
             },
             refresh: ms(10),
+            capture: false,
         }
     }
 
@@ -247,7 +205,7 @@ mod tests {
         assert_eq!(believed_refresh(f64::NAN), DEFAULT_REFRESH);
         let m = DisplayModel::named("59.94").unwrap();
         assert_eq!(
-            EmulatedDisplay::model("59.94", &m).refresh,
+            SweepDisplay::model("59.94", &m, MODEL_SECONDS).refresh,
             m.believed_refresh()
         );
     }

@@ -5,9 +5,10 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use volley::app::display::{EmulatedDisplay, believed_refresh};
+use volley::app::display::{MODEL_SECONDS, believed_refresh};
 use volley::app::{AppError, RunSummary, WindowOptions};
 use volley::clock::LoopPolicy;
+use volley::pacing::SweepDisplay;
 use volley::pacing::{DisplayModel, DrawMode};
 
 use super::{EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail};
@@ -106,7 +107,7 @@ fn display_names() -> String {
 }
 
 /// `--display`: a display model's name or rate, or a PresentMon CSV capture.
-pub fn parse_display(text: &str) -> Result<EmulatedDisplay, Failure> {
+pub fn parse_display(text: &str) -> Result<SweepDisplay, Failure> {
     let path = std::path::Path::new(text);
     let is_file = path.is_file()
         || path
@@ -114,7 +115,7 @@ pub fn parse_display(text: &str) -> Result<EmulatedDisplay, Failure> {
             .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
     if !is_file {
         return DisplayModel::named(text)
-            .map(|m| EmulatedDisplay::model(text, &m))
+            .map(|m| SweepDisplay::model(text, &m, MODEL_SECONDS))
             .ok_or_else(|| {
                 fail(
                     EXIT_INPUT,
@@ -144,7 +145,7 @@ pub fn parse_display(text: &str) -> Result<EmulatedDisplay, Failure> {
             format!("--display: `{text}` holds no presents, expected at least one"),
         ));
     }
-    Ok(EmulatedDisplay::capture(timing))
+    Ok(SweepDisplay::capture(&timing.name.clone(), timing))
 }
 
 /// `--policy NAME` with the refresh the game believes in.

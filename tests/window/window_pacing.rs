@@ -8,11 +8,12 @@ use crate::support;
 use std::time::Duration;
 
 use glam::DVec3;
-use volley::app::display::{DisplayFrames, EmulatedDisplay, Shown};
+use volley::app::display::{DisplayFrames, MODEL_SECONDS, Shown};
 use volley::app::session::Session;
 use volley::app::session::pacing::{CADENCE_FRAMES, JUDDER_FRAMES, NoError};
 use volley::clock::LoopPolicy;
 use volley::hash::state_hash;
+use volley::pacing::SweepDisplay;
 use volley::pacing::{DisplayModel, DrawMode, read_capture};
 use volley::render::{DrawAt, TickHistory};
 use volley::{Integrator, SimLoop, World, scene};
@@ -22,18 +23,19 @@ fn session(name: &str) -> Session {
     Session::new(scene::load(&path).unwrap(), &path, Vec::new())
 }
 
-fn model(name: &str) -> EmulatedDisplay {
-    EmulatedDisplay::model(name, &DisplayModel::named(name).unwrap())
+fn model(name: &str) -> SweepDisplay {
+    SweepDisplay::model(name, &DisplayModel::named(name).unwrap(), MODEL_SECONDS)
 }
 
-fn shipped_capture() -> EmulatedDisplay {
+fn shipped_capture() -> SweepDisplay {
     let file = support::crate_path("assets/captures/presentmon_test_case_4.csv");
     let text = std::fs::read_to_string(&file).unwrap();
-    EmulatedDisplay::capture(read_capture(&text, "presentmon_test_case_4.csv", None).unwrap())
+    let timing = read_capture(&text, "presentmon_test_case_4.csv", None).unwrap();
+    SweepDisplay::capture(&timing.name.clone(), timing)
 }
 
 /// Runs `frames` frames of `display` through `session`.
-fn play(session: &mut Session, display: &EmulatedDisplay, frames: usize) {
+fn play(session: &mut Session, display: &SweepDisplay, frames: usize) {
     let mut source = DisplayFrames::new(display);
     for _ in 0..frames {
         let f = source.next_frame();

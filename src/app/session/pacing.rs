@@ -17,7 +17,7 @@ use std::time::Duration;
 use glam::DVec3;
 
 use crate::app::display::Shown;
-use crate::pacing::DrawMode;
+use crate::pacing::{DrawMode, Lead};
 use crate::render::{DrawAt, JudderMark};
 use crate::world::BodyId;
 
@@ -29,8 +29,6 @@ pub const PACING_FRAMES: usize = 600;
 pub const CADENCE_FRAMES: usize = 60;
 /// Frames the judder ghosts show.
 pub const JUDDER_FRAMES: usize = 12;
-/// Frame deltas [`DrawMode::Predict`]'s lead is the median of (the lab's window).
-pub const LEAD_WINDOW: usize = 15;
 
 /// One frame as the pacing view plots it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,7 +92,8 @@ pub struct PacingLog {
     frames: VecDeque<PacingFrame>,
     judder: Vec<JudderMark>,
     judder_body: Option<BodyId>,
-    deltas: VecDeque<Duration>,
+    /// The frame deltas [`DrawMode::Predict`]'s lead is the median of, as the lab keeps them.
+    deltas: Lead,
     wall: f64,
     /// The game time the wall clock says at the last frame's sample (s), since the last
     /// discontinuity.
@@ -122,7 +121,7 @@ impl PacingLog {
     }
 
     /// [`DrawMode::Predict`]'s lead for the frame being drawn (s of sim time): the median of
-    /// the last [`LEAD_WINDOW`] frame deltas times the time scale, 0 while paused.
+    /// the last [`crate::pacing::LEAD_WINDOW`] frame deltas times the time scale, 0 while paused.
     pub fn lead(&self) -> f64 {
         self.lead
     }
@@ -177,15 +176,12 @@ impl PacingLog {
         let world = &lane.sim.world;
         let clock = &lane.sim.clock;
         self.wall += input.delta.as_secs_f64();
-        if self.deltas.len() == LEAD_WINDOW {
-            self.deltas.pop_front();
-        }
-        self.deltas.push_back(input.delta);
+        self.deltas.push(input.delta);
         let still = input.paused || input.reversing;
         self.lead = if still {
             0.0
         } else {
-            median(&self.deltas).as_secs_f64() * input.time_scale
+            self.deltas.get().as_secs_f64() * input.time_scale
         };
         let tick = world.tick();
         let steps = u32::try_from(tick.saturating_sub(input.tick_before)).unwrap_or(u32::MAX);
@@ -298,10 +294,4 @@ impl PacingLog {
         });
         (errors, mark)
     }
-}
-
-fn median(values: &VecDeque<Duration>) -> Duration {
-    let mut v: Vec<Duration> = values.iter().copied().collect();
-    v.sort_unstable();
-    v.get(v.len() / 2).copied().unwrap_or_default()
 }

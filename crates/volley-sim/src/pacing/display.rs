@@ -195,7 +195,7 @@ impl DisplayModel {
             DisplayModel::Fixed { hz, .. } | DisplayModel::Hitch { hz, .. } => *hz,
             DisplayModel::Variable { max_hz, .. } => *max_hz,
         };
-        Duration::from_nanos((1e9 / hz.round().max(1.0)).round() as u64)
+        believed_refresh(hz)
     }
 
     /// `seconds` of presents under this model.
@@ -295,4 +295,18 @@ fn fixed_refresh(
         k = shown;
         i += 1;
     }
+}
+
+/// The refresh a game believes in when nothing says otherwise: 60 Hz (what Glaiel's constants
+/// and a monitor that reports nothing give).
+pub const DEFAULT_REFRESH: Duration = Duration::from_nanos(16_666_667);
+
+/// The refresh interval a game believes in for a display of `hz`: the rate rounded to whole
+/// hertz (59.94 Hz is taken as 60, as Godot's estimator and Glaiel's constants do), at least
+/// 1 Hz; [`DEFAULT_REFRESH`] for a rate that is not a finite number above 0.
+pub fn believed_refresh(hz: f64) -> Duration {
+    if !hz.is_finite() || hz <= 0.0 {
+        return DEFAULT_REFRESH;
+    }
+    Duration::from_nanos((1e9 / hz.round().max(1.0)).round() as u64)
 }

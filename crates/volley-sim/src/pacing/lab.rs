@@ -182,7 +182,32 @@ impl TickObserver for Before {
 }
 
 /// How many recent deltas [`DrawMode::Predict`] takes the median of.
-const LEAD_WINDOW: usize = 15;
+pub const LEAD_WINDOW: usize = 15;
+
+/// [`DrawMode::Predict`]'s lead: the median of the last [`LEAD_WINDOW`] frame deltas, the
+/// interval after which a vsynced frame reaches the screen. The lab and the window both keep
+/// one, so they predict alike.
+#[derive(Clone, Debug, Default)]
+pub struct Lead {
+    deltas: std::collections::VecDeque<Duration>,
+}
+
+impl Lead {
+    /// Takes the latest frame delta, forgetting the oldest past [`LEAD_WINDOW`].
+    pub fn push(&mut self, delta: Duration) {
+        if self.deltas.len() == LEAD_WINDOW {
+            self.deltas.pop_front();
+        }
+        self.deltas.push_back(delta);
+    }
+
+    /// The median of the deltas kept (the upper one of an even count; 0 before any).
+    pub fn get(&self) -> Duration {
+        let mut v: Vec<Duration> = self.deltas.iter().copied().collect();
+        v.sort_unstable();
+        v.get(v.len() / 2).copied().unwrap_or_default()
+    }
+}
 
 /// Runs `config` under `timing` and measures every draw mode.
 pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopError> {
@@ -202,7 +227,7 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
     let mut before = Before {
         prev: start.clone(),
     };
-    let mut deltas: Vec<Duration> = Vec::with_capacity(LEAD_WINDOW);
+    let mut lead_of = Lead::default();
     let mut records = Vec::with_capacity(timing.presents.len());
     let origin = timing
         .presents
@@ -211,11 +236,8 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
     for (present, delta) in timing.presents.iter().zip(timing.deltas(first)) {
         let tick_before = sim.world.tick();
         let ticks = sim.frame(delta, &mut before)?;
-        if deltas.len() == LEAD_WINDOW {
-            deltas.remove(0);
-        }
-        deltas.push(delta);
-        let lead = median(&deltas).as_secs_f64();
+        lead_of.push(delta);
+        let lead = lead_of.get().as_secs_f64();
         let wall = present.sampled - origin;
         // Game time now: the ticks run plus what the accumulator holds, less the phase the
         // first frame was given, against the wall time since the first sample.
@@ -254,10 +276,4 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
         });
     }
     Ok(Metrics::of(&records, sim.clock.dropped().as_secs_f64()))
-}
-
-fn median(values: &[Duration]) -> Duration {
-    let mut v = values.to_vec();
-    v.sort_unstable();
-    v.get(v.len() / 2).copied().unwrap_or_default()
 }

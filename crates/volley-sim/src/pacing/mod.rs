@@ -28,7 +28,7 @@ pub mod sweep;
 
 pub use capture::{CaptureError, read_capture};
 pub use display::{DisplayModel, DisplayTiming, Present};
-pub use lab::{DrawMode, RunConfig, Subject, run};
+pub use lab::{DrawMode, LEAD_WINDOW, Lead, RunConfig, Subject, run};
 pub use metrics::{Metrics, ModeMetrics, Stats};
 pub use sweep::{Choice, Row, Sweep, SweepDisplay, choose};
 

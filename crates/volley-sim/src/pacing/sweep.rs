@@ -14,8 +14,9 @@ use super::lab::{DrawMode, RunConfig, Subject, run};
 use super::metrics::Metrics;
 use super::{DisplayModel, DisplayTiming};
 
-/// A display the sweep runs under: its timing and the refresh interval a game believes in.
-#[derive(Clone, Debug)]
+/// A display the sweep runs under, or the window emulates: its timing and the refresh interval
+/// a game believes in.
+#[derive(Clone, Debug, PartialEq)]
 pub struct SweepDisplay {
     /// The name the tables use.
     pub name: String,
@@ -43,11 +44,11 @@ impl SweepDisplay {
         let interval = timing
             .median_display_interval()
             .unwrap_or(Duration::from_nanos(16_666_667));
-        let hz = (1e9 / interval.as_nanos().max(1) as f64).round().max(1.0);
+        let hz = 1e9 / interval.as_nanos().max(1) as f64;
         SweepDisplay {
             name: name.to_string(),
             timing,
-            refresh: Duration::from_nanos((1e9 / hz).round() as u64),
+            refresh: super::display::believed_refresh(hz),
             capture: true,
         }
     }
