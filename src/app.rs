@@ -42,9 +42,10 @@ use winit::window::{Window, WindowId};
 use crate::clock::LoopPolicy;
 use crate::integrate::Integrator;
 use crate::pacing::DrawMode;
+use crate::pacing::SweepDisplay;
 use crate::render::GpuError;
 use crate::scene::Scene;
-use display::{EmulatedDisplay, Frames};
+use display::Frames;
 use drill::SurfaceDrill;
 use frame::FrameUi;
 use host::Host;
@@ -97,7 +98,7 @@ pub struct WindowOptions {
     pub warm_up_ticks: u64,
     /// Emulate this display (`--display`): its frame deltas drive the loop, its display times
     /// are measured against (instead of `frame_rate` or the real clock).
-    pub display: Option<EmulatedDisplay>,
+    pub display: Option<SweepDisplay>,
     /// The loop policy every lane starts with (`--policy`); [`crate::pacing::DEFAULT_POLICY`]
     /// by default. A snapping or quantising policy is given the display's refresh.
     pub policy: LoopPolicy,
