@@ -234,6 +234,21 @@ fn nice_grid() -> impl Fn(egui_plot::GridInput) -> Vec<egui_plot::GridMark> {
     })
 }
 
+/// A plot of the last [`VIEW_SECONDS`] against wall time before the newest frame, fixed in
+/// place (no drag, zoom or scroll): what both of the view's plots share.
+fn over_last_seconds(id: &str, height: f32) -> Plot<'static> {
+    Plot::new(id)
+        .show_background(false)
+        .height(height)
+        .include_x(-VIEW_SECONDS)
+        .include_x(0.0)
+        .allow_drag(false)
+        .allow_zoom(false)
+        .allow_scroll(false)
+        .x_grid_spacer(seconds_grid())
+        .x_axis_label("s before now")
+}
+
 /// Ticks per frame against wall time (s before the newest frame): a dot a frame, so a steady
 /// cadence is one row and 0-to-2 swings are dots above and below it.
 fn ticks_plot(ui: &mut Ui, frames: &[PacingFrame], height: f32) {
@@ -243,18 +258,9 @@ fn ticks_plot(ui: &mut Ui, frames: &[PacingFrame], height: f32) {
         .map(|f| [f.wall - now, f64::from(f.steps)])
         .collect();
     let top = frames.iter().map(|f| f.steps).max().unwrap_or(1).max(2);
-    Plot::new("pacing ticks")
-        .show_background(false)
-        .height(height)
+    over_last_seconds("pacing ticks", height)
         .include_y(-0.25)
         .include_y(f64::from(top) + 0.25)
-        .include_x(-VIEW_SECONDS)
-        .include_x(0.0)
-        .allow_drag(false)
-        .allow_zoom(false)
-        .allow_scroll(false)
-        .x_grid_spacer(seconds_grid())
-        .x_axis_label("s before now")
         .y_axis_label("ticks per frame")
         .show(ui, |plot| {
             plot.points(
@@ -292,17 +298,8 @@ fn error_plot(ui: &mut Ui, frames: &[PacingFrame], k: usize, colour: Color32, he
             None => {}
         }
     }
-    Plot::new("pacing error")
-        .show_background(false)
-        .height(height)
+    over_last_seconds("pacing error", height)
         .include_y(0.0)
-        .include_x(-VIEW_SECONDS)
-        .include_x(0.0)
-        .allow_drag(false)
-        .allow_zoom(false)
-        .allow_scroll(false)
-        .x_grid_spacer(seconds_grid())
-        .x_axis_label("s before now")
         .y_grid_spacer(nice_grid())
         .y_axis_label(format!("display error ({unit})"))
         .label_formatter(|pos| match pos {
