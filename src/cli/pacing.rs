@@ -236,7 +236,6 @@ fn sweep(args: &PacingArgs) -> Result<Sweep, Failure> {
 
 /// The CSV, the page and the plot of `rows`, and the ranking on stdout.
 fn write(args: &PacingArgs, rows: &[Row]) -> Result<(), Failure> {
-    let rows = rows.to_vec();
     let integrator = rows
         .iter()
         .map(|r| r.integrator)
@@ -245,7 +244,7 @@ fn write(args: &PacingArgs, rows: &[Row]) -> Result<(), Failure> {
     let subject = rows.first().map_or(Subject::Orbit, |r| r.subject);
     let command = "volley pacing --out docs/pacing";
     let page = report::page(
-        &rows,
+        rows,
         args.rate,
         subject,
         integrator,
@@ -258,12 +257,12 @@ fn write(args: &PacingArgs, rows: &[Row]) -> Result<(), Failure> {
         std::fs::write(&path, text)
             .map_err(|e| fail(EXIT_ENVIRONMENT, format!("{}: {e}", path.display())))
     };
-    write("pacing.csv", &report::csv(&rows))?;
+    write("pacing.csv", &report::csv(rows))?;
     write("report.md", &page)?;
     let plot = |e: volley::plot::PlotError| fail(EXIT_ENVIRONMENT, e);
-    let svg = volley::plot::pacing::svg(&rows, args.rate, subject, integrator).map_err(plot)?;
+    let svg = volley::plot::pacing::svg(rows, args.rate, subject, integrator).map_err(plot)?;
     write("report.svg", &svg)?;
-    let png = volley::plot::pacing::png(&rows, args.rate, subject, integrator).map_err(plot)?;
+    let png = volley::plot::pacing::png(rows, args.rate, subject, integrator).map_err(plot)?;
     let path = args.out.join("report.png");
     std::fs::write(&path, png)
         .map_err(|e| fail(EXIT_ENVIRONMENT, format!("{}: {e}", path.display())))?;

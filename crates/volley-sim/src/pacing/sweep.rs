@@ -1,6 +1,7 @@
 //! The loop lab's sweep: every loop policy x display x tick rate x integrator x subject x phase,
 //! each run measuring every draw mode, on all cores, reported in a fixed order.
 
+use std::collections::BTreeMap;
 use std::time::Duration;
 
 use rayon::prelude::*;
@@ -247,17 +248,16 @@ impl Cell<'_> {
 /// draw mode, the phase with the larger p99 display error.
 pub fn cells(rows: &[Row], subject: Subject, integrator: Integrator) -> Vec<Cell<'_>> {
     let mut out: Vec<Cell<'_>> = Vec::new();
+    // Where each (display, rate, policy, draw mode) cell is in `out`, so a sweep of thousands of
+    // rows is one pass, in the order cells first appear.
+    let mut at: BTreeMap<(&str, u64, &str, DrawMode), usize> = BTreeMap::new();
     for row in rows
         .iter()
         .filter(|r| r.subject == subject && r.integrator == integrator)
     {
         for mode in DrawMode::ALL {
-            let same = out.iter_mut().find(|c| {
-                c.mode == mode
-                    && c.row.display == row.display
-                    && c.row.rate == row.rate
-                    && c.row.policy == row.policy
-            });
+            let key = (row.display.as_str(), row.rate.to_bits(), row.policy, mode);
+            let same = at.get(&key).map(|&k| &mut out[k]);
             let m = &row.metrics;
             match same {
                 Some(c) => {
@@ -269,14 +269,17 @@ pub fn cells(rows: &[Row], subject: Subject, integrator: Integrator) -> Vec<Cell
                     c.drift_worst = c.drift_worst.max(m.drift_worst);
                     c.drift_kept = c.drift_kept.max(m.drift_kept);
                 }
-                None => out.push(Cell {
-                    row,
-                    mode,
-                    latency: m.mode(mode).latency.median,
-                    drift_growth: m.drift_growth.abs(),
-                    drift_worst: m.drift_worst,
-                    drift_kept: m.drift_kept,
-                }),
+                None => {
+                    at.insert(key, out.len());
+                    out.push(Cell {
+                        row,
+                        mode,
+                        latency: m.mode(mode).latency.median,
+                        drift_growth: m.drift_growth.abs(),
+                        drift_worst: m.drift_worst,
+                        drift_kept: m.drift_kept,
+                    });
+                }
             }
         }
     }
