@@ -236,14 +236,7 @@ impl Integrator {
     /// step; the closed form 0): what "equal cost" compares. Read from the scheme the step
     /// dispatches to (`Scheme::EVALS`), the one source of truth.
     pub fn evals_per_step(self, forces: &Forces) -> u64 {
-        struct Evals;
-        impl SchemeVisitor for Evals {
-            type Out = u64;
-            fn visit<S: Scheme>(self, _: S) -> u64 {
-                S::EVALS
-            }
-        }
-        visit(self, forces, DEFAULT_TOLERANCE, Evals)
+        self.scheme_constants(forces).0
     }
 
     /// Whether the integrator carries the end-of-step position force to the next step under
@@ -251,14 +244,20 @@ impl Integrator {
     /// carried force is part of the state a keyframe holds. Read from the scheme the step
     /// dispatches to (`Scheme::CARRIES_FORCE`), the one source of truth.
     pub fn carries_force(self, forces: &Forces) -> bool {
-        struct Carries;
-        impl SchemeVisitor for Carries {
-            type Out = bool;
-            fn visit<S: Scheme>(self, _: S) -> bool {
-                S::CARRIES_FORCE
+        self.scheme_constants(forces).1
+    }
+
+    /// `Scheme::EVALS` and `Scheme::CARRIES_FORCE` of the scheme a step of this integrator
+    /// under `forces` dispatches to.
+    fn scheme_constants(self, forces: &Forces) -> (u64, bool) {
+        struct Constants;
+        impl SchemeVisitor for Constants {
+            type Out = (u64, bool);
+            fn visit<S: Scheme>(self, _: S) -> (u64, bool) {
+                (S::EVALS, S::CARRIES_FORCE)
             }
         }
-        visit(self, forces, DEFAULT_TOLERANCE, Carries)
+        visit(self, forces, DEFAULT_TOLERANCE, Constants)
     }
 }
 
