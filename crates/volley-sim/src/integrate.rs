@@ -344,12 +344,6 @@ fn visit_model<F: ForceModel, V: SchemeVisitor>(
     }
 }
 
-/// Force evaluations one step of `integrator` costs per body on `forces`: the same as
-/// [`Integrator::evals_per_step`], kept for callers that name the free function.
-pub fn evals_per_step(integrator: Integrator, forces: &Forces) -> u64 {
-    integrator.evals_per_step(forces)
-}
-
 /// Advances one body by `h` with any integrator: the reference path for tests and studies.
 ///
 /// The stepping loop uses the same `Scheme` code, so results are bit-identical to a world's.
