@@ -54,7 +54,7 @@ fn aim_lane(
     use crate::firing::{self, Mode, Range, ShotKind};
     let mut scene = world.scene().clone();
     scene.integrator = world.integrator();
-    scene.forces = *world.forces();
+    scene.forces = world.forces().clone();
     scene.launcher = *world.launcher();
     let t = world.contacts().targets[target];
     let now = crate::contact::Target {

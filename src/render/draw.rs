@@ -375,7 +375,7 @@ impl DrawList {
                 mv: l.mass * l.velocity(),
             },
             mass: l.mass,
-            forces: *world.forces(),
+            forces: world.forces().clone(),
             has_closed_form: true,
             numeric: false,
             cache: std::cell::Cell::new(None),

@@ -108,17 +108,17 @@ impl References {
         }
         let last = self.list.last().map(|r| r.id);
         let first_new = ids.partition_point(|id| last.is_some_and(|l| *id <= l));
-        let forces = *world.forces();
+        let forces = world.forces();
         for (i, &id) in ids.iter().enumerate().skip(first_new) {
             let (state, mass) = (bodies.state(i), bodies.masses()[i]);
-            let has_closed_form = closed_form(&forces, state, mass, 0.0).is_some();
+            let has_closed_form = closed_form(forces, state, mass, 0.0).is_some();
             self.list.push(Reference {
                 id,
                 spawn_tick: world.tick(),
                 spawn_time: world.time(),
                 state,
                 mass,
-                forces,
+                forces: forces.clone(),
                 has_closed_form,
                 numeric: !has_closed_form && self.list.len() < NUMERIC_BODIES,
                 cache: std::cell::Cell::new(None),
@@ -145,13 +145,13 @@ impl References {
 
     /// A change of the active force terms ends every open reference.
     fn note_forces(&mut self, world: &World) {
-        let now = *world.forces();
-        if self.forces.is_some_and(|f| f != now) {
+        let now = world.forces();
+        if self.forces.as_ref().is_some_and(|f| f != now) {
             for r in self.list.iter_mut().filter(|r| r.end.is_none()) {
                 r.end = Some(ReferenceEnd::ForcesChanged { tick: world.tick() });
             }
         }
-        self.forces = Some(now);
+        self.forces = Some(now.clone());
     }
 
     /// The reference of `id`.

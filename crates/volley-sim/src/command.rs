@@ -178,7 +178,7 @@ impl World {
                 l.position = position.unwrap_or(l.position);
             }
             Command::SetForce { kind, enabled } => {
-                let declared = self.params.declared;
+                let declared = self.params.declared.clone();
                 if !declared.has(kind) {
                     return Err(CommandError::UndeclaredForce {
                         kind,
@@ -187,7 +187,7 @@ impl World {
                 }
                 let candidate = if enabled {
                     let only = declared.filtered(|k| k == kind);
-                    let mut f = self.state.forces;
+                    let mut f = self.state.forces.clone();
                     f.gravity = f.gravity.or(only.gravity);
                     f.constant = f.constant.or(only.constant);
                     f.linear_drag = f.linear_drag.or(only.linear_drag);
@@ -196,7 +196,7 @@ impl World {
                     f.point_mass = f.point_mass.or(only.point_mass);
                     f
                 } else {
-                    self.state.forces.without(kind)
+                    self.state.forces.clone().without(kind)
                 };
                 check_integrator(self.state.integrator, &candidate)
                     .map_err(CommandError::Integrator)?;
@@ -209,7 +209,7 @@ impl World {
             }
             Command::Reset => {
                 self.clear_bodies();
-                self.state.forces = self.params.declared;
+                self.state.forces = self.params.declared.clone();
                 self.state.launcher = self.scene.launcher;
                 self.state.rng = crate::world::SplitMix64(self.scene.seed);
                 self.populate();

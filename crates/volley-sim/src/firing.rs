@@ -235,6 +235,7 @@ pub fn solve_discrete(range: &Range, mode: Mode) -> Result<Vec<Shot>, FiringErro
         || forces.quadratic_drag.is_some()
         || forces.spring.is_some()
         || forces.point_mass.is_some()
+        || forces.mach_drag.is_some()
     {
         return Err(FiringError::Invalid(
             "the discrete closed form covers gravity and constant forces only".into(),

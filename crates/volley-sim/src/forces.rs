@@ -13,6 +13,10 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+mod mach_drag;
+
+pub use mach_drag::{AirModel, DragCurve, DragSize, KG_M2_PER_LB_IN2, MachDrag, Wind};
+
 /// Net force on one body, the only physics a step needs from a force description.
 ///
 /// Implemented by [`ConstantField`] (gravity and constant force only) and [`Forces`] (any
@@ -103,17 +107,20 @@ pub enum ForceKind {
     Spring,
     /// Attraction to a point mass.
     PointMass,
+    /// Drag against a Mach-dependent curve in moving air.
+    MachDrag,
 }
 
 impl ForceKind {
     /// Every kind, in evaluation order.
-    pub const ALL: [ForceKind; 6] = [
+    pub const ALL: [ForceKind; 7] = [
         ForceKind::Gravity,
         ForceKind::ConstantForce,
         ForceKind::LinearDrag,
         ForceKind::QuadraticDrag,
         ForceKind::Spring,
         ForceKind::PointMass,
+        ForceKind::MachDrag,
     ];
 
     /// The name used in scene files and on the command line.
@@ -125,6 +132,7 @@ impl ForceKind {
             ForceKind::QuadraticDrag => "QuadraticDrag",
             ForceKind::Spring => "Spring",
             ForceKind::PointMass => "PointMass",
+            ForceKind::MachDrag => "MachDrag",
         }
     }
 
@@ -138,8 +146,9 @@ impl ForceKind {
 
 /// The declared force terms of a scene, at most one of each kind.
 ///
-/// An empty slot is never evaluated. Fields are public plain data, as in a scene file.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// An empty slot is never evaluated. Fields are public plain data, as in a scene file. Not
+/// `Copy`: a Mach drag holds its curve and air column behind `Arc`s, so a clone is cheap.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Forces {
     /// Gravitational acceleration g (m/s^2), usually (0, 0, -9.81): `F = m g`.
     pub gravity: Option<DVec3>,
@@ -153,6 +162,8 @@ pub struct Forces {
     pub spring: Option<Spring>,
     /// Attraction to a point mass.
     pub point_mass: Option<PointMass>,
+    /// Drag against a Mach-dependent curve, in a standard or uniform atmosphere and the wind.
+    pub mach_drag: Option<MachDrag>,
 }
 
 impl Forces {
@@ -165,6 +176,7 @@ impl Forces {
             ForceKind::QuadraticDrag => self.quadratic_drag.is_some(),
             ForceKind::Spring => self.spring.is_some(),
             ForceKind::PointMass => self.point_mass.is_some(),
+            ForceKind::MachDrag => self.mach_drag.is_some(),
         }
     }
 
@@ -182,16 +194,17 @@ impl Forces {
             ForceKind::QuadraticDrag => self.quadratic_drag = None,
             ForceKind::Spring => self.spring = None,
             ForceKind::PointMass => self.point_mass = None,
+            ForceKind::MachDrag => self.mach_drag = None,
         }
         self
     }
 
     /// A copy keeping only the kinds for which `keep` is true.
-    pub fn filtered(self, keep: impl Fn(ForceKind) -> bool) -> Forces {
+    pub fn filtered(&self, keep: impl Fn(ForceKind) -> bool) -> Forces {
         ForceKind::ALL
             .into_iter()
             .filter(|k| !keep(*k))
-            .fold(self, |f, k| f.without(k))
+            .fold(self.clone(), |f, k| f.without(k))
     }
 
     /// The same forces as a [`ConstantField`], if gravity and a constant force are all there is.
@@ -200,7 +213,8 @@ impl Forces {
         let only_constant = self.linear_drag.is_none()
             && self.quadratic_drag.is_none()
             && self.spring.is_none()
-            && self.point_mass.is_none();
+            && self.point_mass.is_none()
+            && self.mach_drag.is_none();
         only_constant.then(|| ConstantField {
             gravity: self.gravity.unwrap_or(DVec3::ZERO),
             force: self.constant.unwrap_or(DVec3::ZERO),
@@ -213,12 +227,12 @@ impl Forces {
     /// Every linear force set has one: gravity, constant force, linear drag and a spring with
     /// rest length 0 (any stiffness and damping), in any combination. So does a point mass
     /// alone (Kepler's problem). Refused, because `exact` evaluates the solution rather than
-    /// approximating it: quadratic drag; a spring with a rest length (its pull is not linear in
-    /// the position); a point mass with any other term (named as the point mass).
+    /// approximating it: quadratic drag and Mach drag; a spring with a rest length (its pull is
+    /// not linear in the position); a point mass with any other term (named as the point mass).
     pub fn without_closed_form(&self) -> Option<ForceKind> {
         let alone = self.kinds().count() == 1;
         self.kinds().find(|k| match k {
-            ForceKind::QuadraticDrag => true,
+            ForceKind::QuadraticDrag | ForceKind::MachDrag => true,
             ForceKind::Spring => self.spring.is_some_and(|s| s.rest_length != 0.0),
             ForceKind::PointMass => !alone,
             ForceKind::Gravity | ForceKind::ConstantForce | ForceKind::LinearDrag => false,
@@ -267,12 +281,16 @@ impl ForceModel for Forces {
         if let Some(pm) = self.point_mass {
             f += point_mass_force(&pm, p, m);
         }
+        if let Some(d) = &self.mach_drag {
+            f += d.force(p, v, m);
+        }
         f
     }
 
     fn velocity_dependent(&self) -> bool {
         self.linear_drag.is_some()
             || self.quadratic_drag.is_some()
+            || self.mach_drag.is_some()
             || self.spring.is_some_and(|s| s.damping != 0.0)
     }
 
@@ -281,6 +299,7 @@ impl ForceModel for Forces {
         self.quadratic_drag.is_some()
             || self.spring.is_some_and(|s| s.rest_length != 0.0)
             || self.point_mass.is_some()
+            || self.mach_drag.is_some()
     }
 
     #[inline]
@@ -320,6 +339,9 @@ impl ForceModel for Forces {
         if let Some(pm) = self.point_mass {
             f += point_mass_force(&pm, p, m);
         }
+        if let Some(d) = &self.mach_drag {
+            f += d.force(p, v, m);
+        }
         f
     }
 
@@ -338,6 +360,11 @@ impl ForceModel for Forces {
         if let Some(pm) = self.point_mass {
             e -= m * pm.mu / (p - pm.center).length();
         }
+        if let Some(w) = self.mach_drag.as_ref().and_then(|d| d.wind) {
+            // The kinetic energy in the air's frame: drag only ever takes it away there. Exact
+            // for a uniform wind with gravity; with a profile, the frame at the body's height.
+            e += 0.5 * m * ((v - w.at(p.z)).length_squared() - v.length_squared());
+        }
         e
     }
 
@@ -347,7 +374,8 @@ impl ForceModel for Forces {
             || self.constant.is_some()
             || self.linear_drag.is_some()
             || self.quadratic_drag.is_some()
-            || self.spring.is_some();
+            || self.spring.is_some()
+            || self.mach_drag.is_some();
         self.point_mass.filter(|_| !others)
     }
 }
@@ -422,7 +450,7 @@ impl ForceModel for ConstantField {
 /// Its force is [`Forces::force`] for exactly these terms, the same operations in the same
 /// order, so results are bit-identical; it only drops the per-body tests of which terms are
 /// declared, which keep the general loop from vectorising.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct DragField<const CONSTANT: bool> {
     forces: Forces,
     gravity: DVec3,
@@ -439,9 +467,10 @@ impl<const CONSTANT: bool> DragField<CONSTANT> {
         };
         let others = forces.quadratic_drag.is_some()
             || forces.spring.is_some()
-            || forces.point_mass.is_some();
+            || forces.point_mass.is_some()
+            || forces.mach_drag.is_some();
         (forces.constant.is_some() == CONSTANT && !others).then(|| DragField {
-            forces: *forces,
+            forces: forces.clone(),
             gravity,
             constant: forces.constant.unwrap_or(DVec3::ZERO),
             drag,

@@ -11,8 +11,12 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::contact::{Detection, Ground, Target, Wall};
+use crate::drag::Interpolation;
 use crate::exact::{AimError, Arc, aim};
-use crate::forces::{ForceKind, Forces, PointMass, Spring};
+use crate::forces::{
+    AirModel, DragCurve, DragSize, ForceKind, Forces, KG_M2_PER_LB_IN2, MachDrag, PointMass,
+    Spring, Wind,
+};
 use crate::integrate::{DEFAULT_TOLERANCE, Integrator};
 
 mod builder;

@@ -11,6 +11,7 @@
 //! | spring damping c | `K += c/m` | implicitly |
 //! | linear drag b | `K += b/m` (exact) | implicitly |
 //! | quadratic drag c | `K += c v_max / m`: at speed `|v|` the force `-c |v| v` is linear drag with `b = c |v|`, so the speed itself grows under a step exactly when that drag would (explicit Euler: `|v'| = |v| |1 - h c |v| / m|`); `v_max` is the larger of the launch speed and the terminal speed in the uniform field. (The Jacobian's rate `2 c |v|` governs how nearby paths separate, not whether the speed blows up.) | explicitly |
+//! | Mach drag | as quadratic drag with `c/m = rho(0) Cd_max Cd_body A / (2 Cd m)`: the curve's largest coefficient at the ground's density, a bound on the real rate; `v_max` is the larger of the speed through the air at launch and the terminal speed with that coefficient | explicitly |
 //! | point mass mu | `W += mu / r_p^3`: the orbital frequency at periapsis `r_p` of the body's Kepler orbit (the radial eigenvalue `+2 mu/r^3` is a physical instability every method shares, not a numerical one) | explicitly |
 //!
 //! Gravity and constant forces shift the equilibrium and add nothing. For each integrator the
@@ -92,6 +93,15 @@ impl Stiffness {
                 0.0
             };
             s.k_nl += c * v0.length().max(terminal) / m;
+        }
+        if let Some(d) = &f.mach_drag {
+            // As quadratic drag with the curve's largest coefficient at the ground's density,
+            // at the larger of the speed through the air at launch and the terminal speed.
+            let q = d.worst_quadratic_rate(m);
+            let g = f.gravity.unwrap_or(DVec3::ZERO).length();
+            let terminal = if q > 0.0 { (g / q).sqrt() } else { 0.0 };
+            let air_speed = (v0 - d.wind_at(p0.z)).length();
+            s.k_nl += q * air_speed.max(terminal);
         }
         if let Some(pm) = f.point_mass {
             let rp = periapsis(pm.mu, p0 - pm.center, v0);

@@ -91,7 +91,7 @@ impl State {
     /// `carry` (otherwise it is left empty).
     fn assign_from(&mut self, src: &State, carry: bool) {
         (self.tick, self.next_id, self.rng) = (src.tick, src.next_id, src.rng);
-        (self.integrator, self.forces) = (src.integrator, src.forces);
+        (self.integrator, self.forces) = (src.integrator, src.forces.clone());
         (self.launcher, self.force_evals) = (src.launcher, src.force_evals);
         self.bodies.id.clone_from(&src.bodies.id);
         for column in &COLUMNS {
@@ -146,7 +146,7 @@ impl Params {
                 detection: scene.detection,
             },
             guard: scene.guard,
-            declared: scene.forces,
+            declared: scene.forces.clone(),
         }
     }
 }
@@ -206,7 +206,7 @@ impl World {
                 next_id: 0,
                 rng: SplitMix64(scene.seed),
                 integrator: scene.integrator,
-                forces: scene.forces,
+                forces: scene.forces.clone(),
                 launcher: scene.launcher,
                 force_evals: 0,
                 bodies: Bodies::default(),

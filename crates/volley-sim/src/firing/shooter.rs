@@ -23,7 +23,7 @@ impl<'a> Stepped<'a> {
         Stepped {
             range,
             integrator: range.scene.integrator,
-            forces: range.scene.forces,
+            forces: range.scene.forces.clone(),
             tolerance: range.scene.tolerance,
             w: Mass::new(range.mass),
             hs: range.sub_step(),

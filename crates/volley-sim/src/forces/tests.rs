@@ -24,7 +24,7 @@ fn drag_field_matches_general_model_bit_for_bit() {
     };
     let with_constant = Forces {
         constant: Some(DVec3::new(-0.0, 2.0, 0.5)),
-        ..plain
+        ..plain.clone()
     };
     let a = DragField::<false>::of(&plain).expect("gravity and drag only");
     let b = DragField::<true>::of(&with_constant).expect("gravity, drag, constant force");
@@ -32,7 +32,7 @@ fn drag_field_matches_general_model_bit_for_bit() {
     assert!(
         DragField::<false>::of(&Forces {
             linear_drag: None,
-            ..plain
+            ..plain.clone()
         })
         .is_none()
     );

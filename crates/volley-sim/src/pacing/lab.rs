@@ -217,7 +217,7 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
         .map(|i| world.bodies().state(i))
         .collect();
     let masses: Vec<f64> = world.bodies().masses().to_vec();
-    let forces = *world.forces();
+    let forces = world.forces().clone();
     let mut sim = SimLoop::new(world);
     sim.clock.set_policy(config.policy);
     let dt = sim.world.dt();

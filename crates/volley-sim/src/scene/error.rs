@@ -94,6 +94,10 @@ pub enum ValueProblem {
     CannotAim(AimError),
     /// An integrator the declared forces refuse.
     Integrator(IntegratorError),
+    /// A drag curve that is not one.
+    DragTable(crate::drag::DragTableError),
+    /// A Mach drag with neither or both of a ballistic coefficient and a diameter.
+    DragSize,
 }
 
 impl std::fmt::Display for ValueProblem {
@@ -144,6 +148,11 @@ impl std::fmt::Display for ValueProblem {
             }
             ValueProblem::CannotAim(e) => write!(f, "cannot aim: {e}"),
             ValueProblem::Integrator(e) => write!(f, "{e}"),
+            ValueProblem::DragTable(e) => write!(f, "{e}"),
+            ValueProblem::DragSize => f.write_str(
+                "expected either `bc` (lb/in^2) or `diameter` (m) with an optional \
+                 `form_factor`, not both or neither",
+            ),
         }
     }
 }
@@ -153,6 +162,9 @@ impl std::fmt::Display for ValueProblem {
 pub enum IntegratorError {
     /// `exact` was asked for, and this declared force term has no closed form.
     NoClosedForm(ForceKind),
+    /// Forest-Ruth was asked for, and this declared velocity term has no closed-form velocity
+    /// solve (its half kicks solve linear and quadratic drag exactly, nothing else).
+    NoVelocitySolve(ForceKind),
 }
 
 impl std::fmt::Display for IntegratorError {
@@ -171,6 +183,12 @@ impl std::fmt::Display for IntegratorError {
                     kind.name()
                 )
             }
+            IntegratorError::NoVelocitySolve(kind) => write!(
+                f,
+                "`forest-ruth` solves its velocity terms in closed form (LinearDrag and \
+                 QuadraticDrag), and force term {} has none; choose another integrator",
+                kind.name()
+            ),
         }
     }
 }

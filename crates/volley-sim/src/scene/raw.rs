@@ -52,6 +52,18 @@ impl Scene {
                 mu: pm.mu,
             });
         }
+        if let Some(d) = &f.mach_drag {
+            let r = RawMachDrag::of(d);
+            forces.push(ForceTerm::MachDrag {
+                curve: r.curve,
+                interpolation: r.interpolation,
+                bc: r.bc,
+                diameter: r.diameter,
+                form_factor: r.form_factor,
+                air: r.air,
+                wind: r.wind,
+            });
+        }
         let raw = RawScene {
             name: Some(self.name.clone()),
             description: self.description.clone(),
@@ -91,7 +103,7 @@ impl Scene {
 }
 
 /// One force term as written in a scene file.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, Deserialize)]
 pub(super) enum ForceTerm {
     Gravity(DVec3),
     ConstantForce(DVec3),
@@ -109,6 +121,132 @@ pub(super) enum ForceTerm {
         center: DVec3,
         mu: f64,
     },
+    MachDrag {
+        curve: RawCurve,
+        #[serde(default, skip_serializing_if = "is_pchip")]
+        interpolation: Interpolation,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        bc: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        diameter: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        form_factor: Option<f64>,
+        #[serde(default)]
+        air: RawAir,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        wind: Option<RawWind>,
+    },
+}
+
+/// A Mach drag term's fields as written (the `ForceTerm::MachDrag` variant's): the curve, the
+/// body's size (a ballistic coefficient in lb/in^2, or a diameter in m with a form factor),
+/// the air and the wind.
+pub(super) struct RawMachDrag {
+    pub(super) curve: RawCurve,
+    pub(super) interpolation: Interpolation,
+    pub(super) bc: Option<f64>,
+    pub(super) diameter: Option<f64>,
+    pub(super) form_factor: Option<f64>,
+    pub(super) air: RawAir,
+    pub(super) wind: Option<RawWind>,
+}
+
+/// A drag curve as written: a standard one by name, or (Mach, Cd) points.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, Deserialize)]
+pub(super) enum RawCurve {
+    G1,
+    G7,
+    Sphere,
+    Table(Vec<(f64, f64)>),
+}
+
+/// The air as written: a standard atmosphere (the ground's altitude in m, and optionally its
+/// temperature in K and pressure in Pa) or uniform air.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, Deserialize)]
+pub(super) enum RawAir {
+    Standard {
+        #[serde(default)]
+        ground: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        temperature: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pressure: Option<f64>,
+    },
+    Uniform {
+        temperature: f64,
+        pressure: f64,
+    },
+}
+
+impl Default for RawAir {
+    fn default() -> Self {
+        RawAir::Standard {
+            ground: 0.0,
+            temperature: None,
+            pressure: None,
+        }
+    }
+}
+
+/// The wind as written: its velocity (m/s) at a reference height (m, default 10) and the
+/// profile's exponent (default 0: the same wind at every height).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawWind {
+    pub(super) velocity: DVec3,
+    #[serde(default = "ten")]
+    pub(super) reference_height: f64,
+    #[serde(default)]
+    pub(super) exponent: f64,
+}
+
+impl RawMachDrag {
+    /// The term as a scene file writes it back.
+    fn of(d: &MachDrag) -> RawMachDrag {
+        let curve = match &d.curve {
+            DragCurve::G1 => RawCurve::G1,
+            DragCurve::G7 => RawCurve::G7,
+            DragCurve::Sphere => RawCurve::Sphere,
+            DragCurve::Table(t) => RawCurve::Table(t.points().collect()),
+        };
+        let (bc, diameter, form_factor) = match d.size {
+            DragSize::Ballistic(bc) => (Some(bc / KG_M2_PER_LB_IN2), None, None),
+            DragSize::Diameter {
+                diameter,
+                form_factor,
+            } => (None, Some(diameter), Some(form_factor)),
+        };
+        let air = match &d.air {
+            AirModel::Uniform(air) => RawAir::Uniform {
+                temperature: air.temperature,
+                pressure: air.pressure,
+            },
+            AirModel::Standard {
+                ground,
+                temperature,
+                pressure,
+                ..
+            } => RawAir::Standard {
+                ground: *ground,
+                temperature: *temperature,
+                pressure: *pressure,
+            },
+        };
+        let wind = d.wind.map(|w| RawWind {
+            velocity: w.velocity,
+            reference_height: w.reference_height,
+            exponent: w.exponent,
+        });
+        RawMachDrag {
+            curve,
+            interpolation: d.interpolation,
+            bc,
+            diameter,
+            form_factor,
+            air,
+            wind,
+        }
+    }
 }
 
 impl ForceTerm {
@@ -120,6 +258,7 @@ impl ForceTerm {
             ForceTerm::QuadraticDrag(_) => ForceKind::QuadraticDrag,
             ForceTerm::Spring { .. } => ForceKind::Spring,
             ForceTerm::PointMass { .. } => ForceKind::PointMass,
+            ForceTerm::MachDrag { .. } => ForceKind::MachDrag,
         }
     }
 }
@@ -195,6 +334,10 @@ pub(super) struct RawScene {
     pub(super) guard: Guard,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub(super) compare: Vec<CompareLane>,
+}
+
+fn is_pchip(i: &Interpolation) -> bool {
+    *i == Interpolation::Pchip
 }
 
 pub(super) fn one_u32() -> u32 {

@@ -242,3 +242,94 @@ fn error_messages_are_pinned() {
         "x.ron: dt: expected a finite number > 0, got 0"
     );
 }
+
+/// A scene with one Mach drag term written as `term`.
+fn mach_scene(term: &str, integrator: &str) -> String {
+    format!(
+        "Scene(dt: 0.001, integrator: {integrator}, forces: [Gravity((0, 0, -9.81)), {term}],
+           bodies: [(mass: 0.01, position: (0, 0, 1), launch: Velocity((800, 0, 0)))])"
+    )
+}
+
+#[test]
+fn mach_drag_terms_parse_and_write_back_to_the_same_scene() {
+    for term in [
+        "MachDrag(curve: G7, bc: 0.223)",
+        "MachDrag(curve: G1, interpolation: Linear, bc: 0.5, \
+         air: Uniform(temperature: 298.15, pressure: 101325), wind: (velocity: (0, 5, 0)))",
+        "MachDrag(curve: Sphere, diameter: 0.073, form_factor: 1.1, \
+         air: Standard(ground: 1600, temperature: 300), \
+         wind: (velocity: (-3, 1, 0), reference_height: 10, exponent: 0.143))",
+        "MachDrag(curve: Table([(0, 0.3), (0.9, 0.35), (1.1, 0.6), (3, 0.4)]), diameter: 0.01)",
+    ] {
+        let scene = parse(&mach_scene(term, "Rk4"), "x.ron", "x").unwrap();
+        assert!(scene.forces.mach_drag.is_some(), "{term}");
+        let again = parse(&scene.to_ron(), "saved.ron", "x").unwrap();
+        assert_eq!(again.forces, scene.forces, "{term}\n{}", scene.to_ron());
+    }
+}
+
+#[test]
+fn bad_mach_drag_values_name_the_field() {
+    for (term, field, says) in [
+        ("MachDrag(curve: G7, bc: 0)", "forces[1].bc", "> 0"),
+        ("MachDrag(curve: G7, bc: -0.2)", "forces[1].bc", "> 0"),
+        ("MachDrag(curve: G7)", "forces[1]", "either `bc`"),
+        (
+            "MachDrag(curve: G7, bc: 0.2, diameter: 0.01)",
+            "forces[1]",
+            "either `bc`",
+        ),
+        (
+            "MachDrag(curve: G7, diameter: 0.01, form_factor: 0)",
+            "forces[1].form_factor",
+            "> 0",
+        ),
+        (
+            "MachDrag(curve: Table([(0, 0.3), (0.5, 0.3), (0.5, 0.4)]), bc: 0.2)",
+            "forces[1].curve",
+            "point 2",
+        ),
+        (
+            "MachDrag(curve: Table([(0, 0.3), (1, -0.1)]), bc: 0.2)",
+            "forces[1].curve",
+            "point 1",
+        ),
+        (
+            "MachDrag(curve: G1, bc: 0.2, air: Uniform(temperature: 0, pressure: 1e5))",
+            "forces[1].air.temperature",
+            "> 0",
+        ),
+        (
+            "MachDrag(curve: G1, bc: 0.2, wind: (velocity: (1, 0, 0), reference_height: 0))",
+            "forces[1].wind.reference_height",
+            "> 0",
+        ),
+    ] {
+        let err = parse(&mach_scene(term, "Rk4"), "x.ron", "x").unwrap_err();
+        assert_eq!(err.field.as_deref(), Some(field), "{term}: {err}");
+        assert!(err.to_string().contains(says), "{term}: {err}");
+        assert!(!err.to_string().contains('\n'), "one line: {err}");
+    }
+}
+
+#[test]
+fn exact_and_forest_ruth_refuse_mach_drag_and_say_why() {
+    let term = "MachDrag(curve: G7, bc: 0.223)";
+    let err = parse(&mach_scene(term, "Exact"), "x.ron", "x").unwrap_err();
+    assert!(err.to_string().contains("MachDrag has none"), "{err}");
+    let err = parse(&mach_scene(term, "ForestRuth"), "x.ron", "x").unwrap_err();
+    assert!(
+        err.to_string().contains("force term MachDrag has none"),
+        "{err}"
+    );
+    // Implicit Euler and the implicit midpoint rule treat it explicitly, like quadratic drag.
+    for i in [
+        "ImplicitEuler",
+        "ImplicitMidpoint",
+        "Dopri5",
+        "VelocityVerlet",
+    ] {
+        parse(&mach_scene(term, i), "x.ron", "x").unwrap();
+    }
+}

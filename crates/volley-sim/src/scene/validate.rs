@@ -200,10 +200,17 @@ pub(super) fn validate(
     })
 }
 
-/// Refuses `exact` for forces without a closed form, naming the force.
+/// Refuses `exact` for forces without a closed form, and Forest-Ruth for velocity terms it
+/// cannot solve (Mach drag), naming the force.
 pub fn check_integrator(integrator: Integrator, forces: &Forces) -> Result<(), IntegratorError> {
-    match (integrator, forces.without_closed_form()) {
-        (Integrator::Exact, Some(kind)) => Err(IntegratorError::NoClosedForm(kind)),
+    match integrator {
+        Integrator::Exact => match forces.without_closed_form() {
+            Some(kind) => Err(IntegratorError::NoClosedForm(kind)),
+            None => Ok(()),
+        },
+        Integrator::ForestRuth if forces.mach_drag.is_some() => {
+            Err(IntegratorError::NoVelocitySolve(ForceKind::MachDrag))
+        }
         _ => Ok(()),
     }
 }
@@ -215,7 +222,7 @@ pub(super) fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, InvalidValu
         if forces.has(term.kind()) {
             return Err(invalid(field, ValueProblem::DuplicateForce(term.kind())));
         }
-        match *term {
+        match term.clone() {
             ForceTerm::Gravity(g) => forces.gravity = Some(finite3(&field, g)?),
             ForceTerm::ConstantForce(f) => forces.constant = Some(finite3(&field, f)?),
             ForceTerm::LinearDrag(b) => forces.linear_drag = Some(non_negative(&field, b)?),
@@ -239,9 +246,97 @@ pub(super) fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, InvalidValu
                     mu: positive(&format!("{field}.mu"), mu)?,
                 });
             }
+            ForceTerm::MachDrag {
+                curve,
+                interpolation,
+                bc,
+                diameter,
+                form_factor,
+                air,
+                wind,
+            } => {
+                let raw = RawMachDrag {
+                    curve,
+                    interpolation,
+                    bc,
+                    diameter,
+                    form_factor,
+                    air,
+                    wind,
+                };
+                forces.mach_drag = Some(validate_mach_drag(&field, &raw)?);
+            }
         }
     }
     Ok(forces)
+}
+
+/// A Mach drag term's values: a valid curve; exactly one of a ballistic coefficient (> 0,
+/// lb/in^2) or a diameter (> 0, m) with a form factor (> 0); finite temperatures and pressures
+/// (> 0) and ground altitude; a finite wind with a reference height > 0 and an exponent >= 0.
+fn validate_mach_drag(field: &str, raw: &RawMachDrag) -> Result<MachDrag, InvalidValue> {
+    let curve = match &raw.curve {
+        RawCurve::G1 => DragCurve::G1,
+        RawCurve::G7 => DragCurve::G7,
+        RawCurve::Sphere => DragCurve::Sphere,
+        RawCurve::Table(points) => DragCurve::Table(std::sync::Arc::new(
+            crate::drag::DragTable::new(points)
+                .map_err(|e| invalid(format!("{field}.curve"), ValueProblem::DragTable(e)))?,
+        )),
+    };
+    let size = match (raw.bc, raw.diameter, raw.form_factor) {
+        (Some(bc), None, None) => {
+            DragSize::Ballistic(positive(&format!("{field}.bc"), bc)? * KG_M2_PER_LB_IN2)
+        }
+        (None, Some(d), form_factor) => DragSize::Diameter {
+            diameter: positive(&format!("{field}.diameter"), d)?,
+            form_factor: positive(&format!("{field}.form_factor"), form_factor.unwrap_or(1.0))?,
+        },
+        _ => return Err(invalid(field, ValueProblem::DragSize)),
+    };
+    let air = match raw.air.clone() {
+        RawAir::Standard {
+            ground,
+            temperature,
+            pressure,
+        } => {
+            let ground = finite(&format!("{field}.air.ground"), ground)?;
+            let temperature = temperature
+                .map(|t| positive(&format!("{field}.air.temperature"), t))
+                .transpose()?;
+            let pressure = pressure
+                .map(|p| positive(&format!("{field}.air.pressure"), p))
+                .transpose()?;
+            AirModel::standard(ground, temperature, pressure)
+        }
+        RawAir::Uniform {
+            temperature,
+            pressure,
+        } => AirModel::uniform(
+            positive(&format!("{field}.air.temperature"), temperature)?,
+            positive(&format!("{field}.air.pressure"), pressure)?,
+        ),
+    };
+    let wind = raw
+        .wind
+        .map(|w| {
+            Ok::<_, InvalidValue>(Wind {
+                velocity: finite3(&format!("{field}.wind.velocity"), w.velocity)?,
+                reference_height: positive(
+                    &format!("{field}.wind.reference_height"),
+                    w.reference_height,
+                )?,
+                exponent: non_negative(&format!("{field}.wind.exponent"), w.exponent)?,
+            })
+        })
+        .transpose()?;
+    Ok(MachDrag {
+        curve,
+        interpolation: raw.interpolation,
+        size,
+        air,
+        wind,
+    })
 }
 
 pub(super) fn validate_wall(i: usize, w: &Wall) -> Result<Wall, InvalidValue> {

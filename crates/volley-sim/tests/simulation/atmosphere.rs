@@ -80,3 +80,40 @@ fn a_warmer_day_is_thinner_at_the_same_pressure_and_sound_is_faster() {
     );
     assert!((b.temperature - a.temperature - 15.0).abs() < 1e-9);
 }
+
+#[test]
+fn the_tabulated_column_matches_the_formulas_everywhere() {
+    use volley_sim::atmosphere::{AirColumn, COLUMN_BOTTOM, COLUMN_TOP};
+    // Its bound (see `AirColumn`): 1e-9 relative, the layer boundaries included. Every 0.37 m
+    // from below the table to above it, so the exact fallback outside is checked too.
+    for (day, ground) in [
+        (Atmosphere::ICAO, 0.0),
+        (
+            Atmosphere::from_ground(1600.0, Some(305.0), Some(83_000.0)),
+            1600.0,
+        ),
+    ] {
+        let column = AirColumn::new(day, ground);
+        let mut z = COLUMN_BOTTOM - 100.0;
+        while z < COLUMN_TOP + 100.0 {
+            let exact = day.at(ground + z);
+            let (density, sound) = column.at(z);
+            let rel = |a: f64, b: f64| ((a - b) / b).abs();
+            assert!(rel(density, exact.density) < 1e-9, "density at {z} m");
+            assert!(rel(sound, exact.speed_of_sound) < 1e-9, "sound at {z} m");
+            z += 0.37;
+        }
+    }
+}
+
+#[test]
+fn a_day_from_the_ground_has_the_ground_values_given() {
+    let day = Atmosphere::from_ground(1600.0, Some(305.0), Some(83_000.0));
+    let air = day.at(1600.0);
+    assert!((air.temperature - 305.0).abs() < 1e-9, "{air:?}");
+    assert!((air.pressure - 83_000.0).abs() < 1e-6, "{air:?}");
+    // Neither given: the standard day itself (to rounding of the sea-level values found).
+    let standard = Atmosphere::from_ground(1600.0, None, None).at(2000.0);
+    let icao = Atmosphere::ICAO.at(2000.0);
+    assert!(((standard.density - icao.density) / icao.density).abs() < 1e-12);
+}

@@ -108,3 +108,20 @@ fn bad_tables_are_refused_naming_the_point() {
         }
     );
 }
+
+#[test]
+fn straight_lines_run_between_the_points_and_through_them() {
+    use volley_sim::drag::Interpolation;
+    for table in [DragTable::g1(), DragTable::g7(), DragTable::sphere()] {
+        let points: Vec<(f64, f64)> = table.points().collect();
+        for w in points.windows(2) {
+            let ((m0, c0), (m1, c1)) = (w[0], w[1]);
+            assert_eq!(table.cd_by(m0, Interpolation::Linear), c0);
+            let mid = table.cd_by(0.5 * (m0 + m1), Interpolation::Linear);
+            assert!((mid - 0.5 * (c0 + c1)).abs() < 1e-15, "Mach {m0}..{m1}");
+        }
+    }
+    // The sphere's published points (py-ballisticcalc's TableGS).
+    assert_eq!(DragTable::sphere().cd(0.0), 0.4662);
+    assert_eq!(DragTable::sphere().cd(4.0), 0.928);
+}

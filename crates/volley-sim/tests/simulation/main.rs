@@ -6,6 +6,7 @@ mod support;
 
 mod aim;
 mod atmosphere;
+mod ballistics;
 mod clock;
 mod convergence;
 mod drag;

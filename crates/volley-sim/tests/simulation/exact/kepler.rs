@@ -370,7 +370,7 @@ fn exact_runs_a_lone_point_mass_and_refuses_one_with_company() {
     assert_eq!(scene::check_integrator(Integrator::Exact, &lone), Ok(()));
     let perturbed = Forces {
         gravity: Some(DVec3::NEG_Z),
-        ..lone
+        ..lone.clone()
     };
     let err = scene::check_integrator(Integrator::Exact, &perturbed).unwrap_err();
     assert!(

@@ -190,7 +190,7 @@ fn no_precision_is_lost_next_to_critical_damping() {
     let at = |d: f64| {
         let f = Forces {
             linear_drag: Some(5.0 + 20.0 * d),
-            ..f0
+            ..f0.clone()
         };
         let kd = (5.0 + 20.0 * d + 15.0) / m;
         ((kd - 20.0) / 20.0, closed_form(&f, s0, m, t).unwrap())

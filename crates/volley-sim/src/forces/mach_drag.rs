@@ -1,0 +1,228 @@
+//! Drag whose coefficient changes with the Mach number, in air that thins with height and moves
+//! with the wind: the force of a bullet, a shell or a ball, the term [`super::Forces::mach_drag`]
+//! holds.
+//!
+//! # The formula
+//! With `u = V - w(z)` the velocity through the air (w the wind at the body's height),
+//! `rho(z)` and `a(z)` the air's density and speed of sound, and `Cd(M)` the drag curve at
+//! `M = |u| / a`:
+//!
+//! ```text
+//! F = -(rho / 2) Cd_body A |u| u,   Cd_body A = i Cd(M) pi d^2 / 4 = m Cd(M) pi / (4 BC)
+//! ```
+//!
+//! `i` is the form factor (the body's coefficient over the curve's) and `BC = m / (i d^2)` the
+//! ballistic coefficient against the curve, so a body is described either by `BC` (the number
+//! bullet makers publish, in lb/in^2; 1 lb/in^2 = 703.0696 kg/m^2) or by its diameter and form
+//! factor with the body's own mass. This is the standard point-mass model of exterior ballistics
+//! (McCoy, "Modern Exterior Ballistics", 1999, ch. 2 and 4; the same acceleration
+//! `rho pi Cd |u| u / (8 BC)` is JBM's and py-ballisticcalc's). The curve is a [`DragTable`],
+//! PCHIP between its points unless the term asks for straight lines ([`Interpolation`]).
+//!
+//! The wind is a velocity at a reference height, constant with height or following the power
+//! law `w(z) = w_ref (z / z_ref)^alpha` above the ground (z > 0; none at or below it), the
+//! profile of the atmospheric surface layer (Hellmann's exponent; 1/7 over open ground).
+//!
+//! The air is either uniform (one temperature and pressure everywhere, as ballistic tables are
+//! usually computed) or a standard atmosphere over the scene's height ([`AirColumn`]).
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use crate::atmosphere::{Air, AirColumn, Atmosphere, GAMMA, R_AIR};
+use crate::drag::{DragTable, Interpolation};
+
+/// One lb/in^2 in kg/m^2: the unit ballistic coefficients are published in.
+pub const KG_M2_PER_LB_IN2: f64 = 0.453_592_37 / (0.0254 * 0.0254);
+
+/// The drag curve a [`MachDrag`] reads.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DragCurve {
+    /// The standard G1 function (flat-base bullet).
+    G1,
+    /// The standard G7 function (boat-tail spitzer).
+    G7,
+    /// A smooth sphere (the GS function).
+    Sphere,
+    /// A table given in the scene.
+    Table(Arc<DragTable>),
+}
+
+impl DragCurve {
+    /// The curve's table.
+    #[inline]
+    pub fn table(&self) -> &DragTable {
+        match self {
+            DragCurve::G1 => DragTable::g1(),
+            DragCurve::G7 => DragTable::g7(),
+            DragCurve::Sphere => DragTable::sphere(),
+            DragCurve::Table(t) => t,
+        }
+    }
+
+    /// The curve's name as a scene file writes it (`Table` for a scene's own).
+    pub fn name(&self) -> &'static str {
+        match self {
+            DragCurve::G1 => "G1",
+            DragCurve::G7 => "G7",
+            DragCurve::Sphere => "Sphere",
+            DragCurve::Table(_) => "Table",
+        }
+    }
+}
+
+/// How a body's size and mass scale the curve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DragSize {
+    /// A ballistic coefficient against the curve, `BC = m / (i d^2)` (kg/m^2): every body
+    /// slows the same whatever its mass.
+    Ballistic(f64),
+    /// The body's diameter d (m) and form factor i: the force is the same whatever its mass.
+    Diameter {
+        /// Diameter (m).
+        diameter: f64,
+        /// Form factor i: the body's drag coefficient over the curve's.
+        form_factor: f64,
+    },
+}
+
+impl DragSize {
+    /// `Cd_body A / Cd(M) / 2` (m^2) for a body of mass `m`, so `F = -rho Cd(M) |u| u` times it.
+    #[inline(always)]
+    fn half_area(self, m: f64) -> f64 {
+        match self {
+            DragSize::Ballistic(bc) => m * (std::f64::consts::PI / 8.0) / bc,
+            DragSize::Diameter {
+                diameter,
+                form_factor,
+            } => (std::f64::consts::PI / 8.0) * form_factor * diameter * diameter,
+        }
+    }
+}
+
+/// The air a [`MachDrag`] acts in.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AirModel {
+    /// The same air at every height: its temperature and pressure, with the density and speed
+    /// of sound of dry air at them.
+    Uniform(Air),
+    /// A standard atmosphere over the scene's height.
+    Standard {
+        /// Altitude above sea level (m) of the scene's z = 0.
+        ground: f64,
+        /// The ground's temperature (K), if not the standard day's.
+        temperature: Option<f64>,
+        /// The ground's pressure (Pa), if not the standard day's.
+        pressure: Option<f64>,
+        /// Its tabulation.
+        column: Arc<AirColumn>,
+    },
+}
+
+impl AirModel {
+    /// Uniform dry air at `temperature` (K) and `pressure` (Pa).
+    pub fn uniform(temperature: f64, pressure: f64) -> AirModel {
+        AirModel::Uniform(Air {
+            temperature,
+            pressure,
+            density: pressure / (R_AIR * temperature),
+            speed_of_sound: libm::sqrt(GAMMA * R_AIR * temperature),
+        })
+    }
+
+    /// The ICAO standard atmosphere with the scene's z = 0 at `ground` m above sea level and
+    /// the ground's temperature (K) and pressure (Pa) where given
+    /// ([`Atmosphere::from_ground`]).
+    pub fn standard(ground: f64, temperature: Option<f64>, pressure: Option<f64>) -> AirModel {
+        let atmosphere = Atmosphere::from_ground(ground, temperature, pressure);
+        AirModel::Standard {
+            ground,
+            temperature,
+            pressure,
+            column: Arc::new(AirColumn::new(atmosphere, ground)),
+        }
+    }
+
+    /// Density (kg/m^3) and speed of sound (m/s) at scene height `z` (m).
+    #[inline(always)]
+    pub fn at(&self, z: f64) -> (f64, f64) {
+        match self {
+            AirModel::Uniform(air) => (air.density, air.speed_of_sound),
+            AirModel::Standard { column, .. } => column.at(z),
+        }
+    }
+}
+
+/// The wind: the air's velocity, at a reference height and with height.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Wind {
+    /// The wind's velocity (m/s) at `reference_height`.
+    pub velocity: DVec3,
+    /// Height (m) at which `velocity` is measured.
+    pub reference_height: f64,
+    /// The profile's exponent alpha: 0 for the same wind at every height.
+    pub exponent: f64,
+}
+
+impl Wind {
+    /// The wind (m/s) at height `z` (m).
+    #[inline(always)]
+    pub fn at(&self, z: f64) -> DVec3 {
+        if self.exponent == 0.0 {
+            self.velocity
+        } else if z > 0.0 {
+            self.velocity * libm::pow(z / self.reference_height, self.exponent)
+        } else {
+            DVec3::ZERO
+        }
+    }
+}
+
+/// Drag against a Mach-dependent curve (see the module doc for the formula and its source).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MachDrag {
+    /// The curve.
+    pub curve: DragCurve,
+    /// How the curve runs between its points.
+    pub interpolation: Interpolation,
+    /// How the body scales it.
+    pub size: DragSize,
+    /// The air.
+    pub air: AirModel,
+    /// The wind, if any.
+    pub wind: Option<Wind>,
+}
+
+impl MachDrag {
+    /// Force (N) on a body of mass `m` (kg) at `p` (m) moving at `v` (m/s).
+    #[inline]
+    pub fn force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3 {
+        let u = v - self.wind_at(p.z);
+        let (density, sound) = self.air.at(p.z);
+        let speed = u.length();
+        let cd = self.curve.table().cd_by(speed / sound, self.interpolation);
+        -(self.size.half_area(m) * density * cd * speed) * u
+    }
+
+    /// The wind (m/s) at height `z`: zero without one.
+    #[inline(always)]
+    pub fn wind_at(&self, z: f64) -> DVec3 {
+        self.wind.map_or(DVec3::ZERO, |w| w.at(z))
+    }
+
+    /// The Mach number of a body at `p` moving at `v`: its speed through the air over the
+    /// speed of sound there.
+    pub fn mach(&self, p: DVec3, v: DVec3) -> f64 {
+        (v - self.wind_at(p.z)).length() / self.air.at(p.z).1
+    }
+
+    /// The largest `rho Cd_body A / 2 / m` (1/m) the curve reaches near the ground, the
+    /// coefficient of `|u| u` a quadratic drag with the same worst case would have: what the
+    /// stability pre-check treats this term as.
+    pub fn worst_quadratic_rate(&self, m: f64) -> f64 {
+        let cd_max = self.curve.table().points().map(|p| p.1).fold(0.0, f64::max);
+        let (density, _) = self.air.at(0.0);
+        self.size.half_area(m) * density * cd_max / m
+    }
+}
