@@ -9,18 +9,18 @@
 // The simulation, named rather than globbed: its game-facing surface as the crate root has it,
 // and the (hidden) modules the window, the CLI, the tests and the benches reach into.
 pub use volley_sim::{
-    AimMode, AimRange, Bodies, BodyId, BodySpec, BodyState, ClockError, Command, CommandError,
-    CommandParseError, DEFAULT_DRAW, DEFAULT_POLICY, Detection, Divergence, DrawMode, Event,
-    EventKind, FiringError, FirstDivergence, FixedClock, ForceKind, Forces, FrameSource,
-    FrameTicks, Ground, Guard, Integrator, Launcher, LoopError, LoopPolicy, ObserverError,
-    PointMass, RealClock, RecordOptions, Recorder, Recording, Replay, Scene, SceneBuilder,
-    SceneError, ScriptError, Shot, SimLoop, Spring, Stamped, Surface, Target, TickObserver,
-    Timeline, VirtualClock, Volley, Wall, World, bundled_scene, load_scene, parse_scene,
-    parse_script, solve_aim, state_hash,
+    AimMode, AimRange, Atmosphere, Bodies, BodyId, BodySpec, BodyState, ClockError, Command,
+    CommandError, CommandParseError, DEFAULT_DRAW, DEFAULT_POLICY, Detection, Divergence,
+    DragTable, DrawMode, Event, EventKind, FiringError, FirstDivergence, FixedClock, ForceKind,
+    Forces, FrameSource, FrameTicks, Ground, Guard, Integrator, Launcher, LoopError, LoopPolicy,
+    MachDrag, ObserverError, PointMass, RealClock, RecordOptions, Recorder, Recording, Replay,
+    Scene, SceneBuilder, SceneError, ScriptError, Shot, SimLoop, Spring, Stamped, Surface, Target,
+    TickObserver, Timeline, VirtualClock, Volley, Wall, World, bundled_scene, load_scene,
+    parse_scene, parse_script, solve_aim, state_hash,
 };
 pub use volley_sim::{
-    body, clock, command, contact, exact, firing, forces, hash, integrate, pacing, replay, rng,
-    scene, sim_loop, simd, stability, step, study, table, timeline, world,
+    atmosphere, body, clock, command, contact, drag, exact, firing, forces, hash, integrate,
+    pacing, replay, rng, scene, sim_loop, simd, stability, step, study, table, timeline, world,
 };
 
 pub mod app;

@@ -205,3 +205,44 @@ fn a_recording_killed_mid_run_opens_truncated_and_verifies() {
     assert!(text(&out.stdout).starts_with(&format!("verified {end} ticks")));
     let _ = std::fs::remove_file(&file);
 }
+
+/// A game's own force term, registered only in this test process: the `volley` binary does not
+/// have it.
+#[derive(Debug)]
+struct GamePush;
+
+impl volley::forces::ForceTerm for GamePush {
+    fn name(&self) -> &str {
+        "test-game/push"
+    }
+    fn version(&self) -> u32 {
+        3
+    }
+    fn force(&self, t: f64, _p: glam::DVec3, _v: glam::DVec3, m: f64) -> glam::DVec3 {
+        glam::DVec3::new(m * t, 0.0, 0.0)
+    }
+}
+
+#[test]
+fn a_recording_with_a_games_own_term_names_it_and_is_refused_without_it() {
+    volley::forces::register(std::sync::Arc::new(GamePush));
+    let scene = volley::parse_scene(
+        "Scene(dt: 0.01, integrator: Rk4, forces: [Gravity((0, 0, -9.81)), \
+         Custom(name: \"test-game/push\", version: 3)], \
+         bodies: [(mass: 1, position: (0, 0, 5), launch: Velocity((1, 0, 2)))])",
+        "game.ron",
+        "game",
+    )
+    .unwrap();
+    let file = temp("game-term.vrec");
+    std::fs::write(&file, record(&scene, 30, &[], options(1, 10))).unwrap();
+    let out = volley(&["replay", file.to_str().unwrap(), "--verify"]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stdout));
+    let err = text(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("custom force term `test-game/push` (version 3) is not registered"),
+        "{err}"
+    );
+    let _ = std::fs::remove_file(&file);
+}

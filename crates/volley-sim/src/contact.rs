@@ -19,6 +19,7 @@ mod surfaces;
 pub use surfaces::*;
 
 /// Where and when a step runs, as the contact stage needs it.
+#[derive(Clone, Copy)]
 pub(crate) struct StepContext<'a> {
     pub contacts: &'a Contacts,
     /// Tick number the step produces.
@@ -192,11 +193,12 @@ fn resolve_swept<S: Scheme>(
     let mut evals = 0u64;
     let mut elapsed = 0.0; // time from the step start to the segment start
     let mut remaining = ctx.h;
-    let step = |s: BodyState, c: DVec3, tau: f64, evals: &mut u64| {
+    // A step of `tau` from `s` at time `t`.
+    let step = |s: BodyState, c: DVec3, t: f64, tau: f64, evals: &mut u64| {
         if *evals > MAX_CONTACT_EVALS {
             return (SPENT, c);
         }
-        let (s, c, n) = scheme.step_counted(s, body.w, tau, c);
+        let (s, c, n) = scheme.step_counted(s, body.w, t, tau, c);
         *evals += n;
         (s, c)
     };
@@ -220,7 +222,7 @@ fn resolve_swept<S: Scheme>(
                 }
             }
             let (tau, _) = bracketed_root(
-                |tau| plane.distance(step(s, c, tau, &mut evals).0.p),
+                |tau| plane.distance(step(s, c, ctx.t0 + elapsed, tau, &mut evals).0.p),
                 (0.0, d0),
                 (remaining, d1),
             );
@@ -230,7 +232,7 @@ fn resolve_swept<S: Scheme>(
         }
         let cut = first.map_or(remaining, |(tau, _)| tau);
         let at_cut = match first {
-            Some((tau, _)) if tau < remaining => step(s, c, tau, &mut evals),
+            Some((tau, _)) if tau < remaining => step(s, c, ctx.t0 + elapsed, tau, &mut evals),
             _ => (end, end_c),
         };
         targets_on_segment(
@@ -279,21 +281,23 @@ fn resolve_swept<S: Scheme>(
                         },
                     });
                 }
-                let (s, c) = settle(scheme, body, plane, (s, c), remaining, &mut evals);
+                let at = (ctx.t0 + elapsed, remaining);
+                let (s, c) = settle(scheme, body, plane, (s, c), at, &mut evals);
                 return (s, c, evals);
             }
         } else if -mv_n * body.w.inv <= ctx.rest_speed && tau == 0.0 {
             // Resting contact: slide along the surface for the rest of the step.
-            let (s, c) = settle(scheme, body, plane, (s, c), remaining, &mut evals);
+            let at = (ctx.t0 + elapsed, remaining);
+            let (s, c) = settle(scheme, body, plane, (s, c), at, &mut evals);
             return (s, c, evals);
         }
-        (end, end_c) = step(s, c, remaining, &mut evals);
+        (end, end_c) = step(s, c, ctx.t0 + elapsed, remaining, &mut evals);
     }
     // Still bouncing after the cap (a body jittering in a corner): keep it outside every surface.
     let (mut s, mut c) = (end, end_c);
     clamp_outside(ctx, body, &mut s);
     if S::CARRIES_FORCE {
-        c = scheme.start_carry(s, body.w);
+        c = scheme.start_carry(s, body.w, ctx.t0 + ctx.h);
         evals += 1; // the carried force: one evaluation
     }
     (s, c, evals)
@@ -306,13 +310,13 @@ fn settle<S: Scheme>(
     body: Particle,
     plane: Plane,
     (mut s, c): (BodyState, DVec3),
-    remaining: f64,
+    (t, remaining): (f64, f64),
     evals: &mut u64,
 ) -> (BodyState, DVec3) {
     let mv_n = plane.normal.dot(s.mv);
     s.mv -= mv_n * plane.normal;
     let (mut end, mut end_c) = if remaining > 0.0 {
-        let (end, end_c, n) = scheme.step_counted(s, body.w, remaining, c);
+        let (end, end_c, n) = scheme.step_counted(s, body.w, t, remaining, c);
         *evals += n;
         (end, end_c)
     } else {
@@ -322,7 +326,7 @@ fn settle<S: Scheme>(
     if d < 0.0 {
         end.p -= d * plane.normal;
         if S::CARRIES_FORCE {
-            end_c = scheme.start_carry(end, body.w);
+            end_c = scheme.start_carry(end, body.w, t + remaining);
             *evals += 1;
         }
     }
@@ -368,7 +372,7 @@ fn targets_on_segment<S: Scheme>(
         if before + spent.get() > MAX_CONTACT_EVALS {
             return SPENT;
         }
-        let (s, _, n) = scheme.step_counted(a, body.w, tau, ca);
+        let (s, _, n) = scheme.step_counted(a, body.w, ctx.t0 + elapsed, tau, ca);
         spent.set(spent.get() + n);
         s
     };
@@ -459,7 +463,7 @@ fn resolve_discrete<S: Scheme>(
         }
     }
     if moved && S::CARRIES_FORCE {
-        c = scheme.start_carry(s, body.w);
+        c = scheme.start_carry(s, body.w, ctx.t0 + ctx.h);
     }
     for (i, target) in ctx.contacts.targets.iter().enumerate() {
         let reach = target.radius + body.r;

@@ -13,8 +13,10 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+mod custom;
 mod mach_drag;
 
+pub use custom::{CustomForce, CustomForceError, ForceTerm, register, resolve};
 pub use mach_drag::{AirModel, DragCurve, DragSize, KG_M2_PER_LB_IN2, MachDrag, Wind};
 
 /// Net force on one body, the only physics a step needs from a force description.
@@ -25,12 +27,26 @@ pub use mach_drag::{AirModel, DragCurve, DragSize, KG_M2_PER_LB_IN2, MachDrag, W
 pub trait ForceModel: Sync {
     /// Net force (N) on a body of mass `m` (kg) at position `p` (m) with velocity `v` (m/s).
     fn force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3;
+    /// [`ForceModel::force`] at time `t` (s, the world's clock): what the integrators call,
+    /// with each stage's own time. Only a game's own term ([`ForceTerm`]) reads the time; for
+    /// every other model this is `force`, and `t` compiles away.
+    #[inline(always)]
+    fn force_at(&self, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
+        let _ = t;
+        self.force(p, v, m)
+    }
     /// Whether [`ForceModel::force`] reads `v`. Velocity Verlet uses it to pick its variant.
     fn velocity_dependent(&self) -> bool;
     /// The terms that are linear in (p, v), as used by implicit Euler, for a body of mass `m`.
     fn linear_part(&self, m: f64) -> LinearPart;
     /// Force from the terms [`ForceModel::linear_part`] leaves out (treated explicitly).
     fn nonlinear_force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3;
+    /// [`ForceModel::nonlinear_force`] at time `t`, as [`ForceModel::force_at`] is `force`.
+    #[inline(always)]
+    fn nonlinear_force_at(&self, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
+        let _ = t;
+        self.nonlinear_force(p, v, m)
+    }
     /// Whether any term is left to [`ForceModel::nonlinear_force`] (implicit midpoint picks its
     /// form by it). The fast-path models have none.
     #[inline(always)]
@@ -109,11 +125,13 @@ pub enum ForceKind {
     PointMass,
     /// Drag against a Mach-dependent curve in moving air.
     MachDrag,
+    /// A game's own term ([`ForceTerm`]).
+    Custom,
 }
 
 impl ForceKind {
     /// Every kind, in evaluation order.
-    pub const ALL: [ForceKind; 7] = [
+    pub const ALL: [ForceKind; 8] = [
         ForceKind::Gravity,
         ForceKind::ConstantForce,
         ForceKind::LinearDrag,
@@ -121,6 +139,7 @@ impl ForceKind {
         ForceKind::Spring,
         ForceKind::PointMass,
         ForceKind::MachDrag,
+        ForceKind::Custom,
     ];
 
     /// The name used in scene files and on the command line.
@@ -133,6 +152,7 @@ impl ForceKind {
             ForceKind::Spring => "Spring",
             ForceKind::PointMass => "PointMass",
             ForceKind::MachDrag => "MachDrag",
+            ForceKind::Custom => "Custom",
         }
     }
 
@@ -164,6 +184,8 @@ pub struct Forces {
     pub point_mass: Option<PointMass>,
     /// Drag against a Mach-dependent curve, in a standard or uniform atmosphere and the wind.
     pub mach_drag: Option<MachDrag>,
+    /// A game's own term, evaluated last ([`ForceTerm`]).
+    pub custom: Option<CustomForce>,
 }
 
 impl Forces {
@@ -177,6 +199,7 @@ impl Forces {
             ForceKind::Spring => self.spring.is_some(),
             ForceKind::PointMass => self.point_mass.is_some(),
             ForceKind::MachDrag => self.mach_drag.is_some(),
+            ForceKind::Custom => self.custom.is_some(),
         }
     }
 
@@ -195,6 +218,7 @@ impl Forces {
             ForceKind::Spring => self.spring = None,
             ForceKind::PointMass => self.point_mass = None,
             ForceKind::MachDrag => self.mach_drag = None,
+            ForceKind::Custom => self.custom = None,
         }
         self
     }
@@ -214,7 +238,8 @@ impl Forces {
             && self.quadratic_drag.is_none()
             && self.spring.is_none()
             && self.point_mass.is_none()
-            && self.mach_drag.is_none();
+            && self.mach_drag.is_none()
+            && self.custom.is_none();
         only_constant.then(|| ConstantField {
             gravity: self.gravity.unwrap_or(DVec3::ZERO),
             force: self.constant.unwrap_or(DVec3::ZERO),
@@ -227,12 +252,12 @@ impl Forces {
     /// Every linear force set has one: gravity, constant force, linear drag and a spring with
     /// rest length 0 (any stiffness and damping), in any combination. So does a point mass
     /// alone (Kepler's problem). Refused, because `exact` evaluates the solution rather than
-    /// approximating it: quadratic drag and Mach drag; a spring with a rest length (its pull is
+    /// approximating it: quadratic drag, Mach drag and a game's own term; a spring with a rest length (its pull is
     /// not linear in the position); a point mass with any other term (named as the point mass).
     pub fn without_closed_form(&self) -> Option<ForceKind> {
         let alone = self.kinds().count() == 1;
         self.kinds().find(|k| match k {
-            ForceKind::QuadraticDrag | ForceKind::MachDrag => true,
+            ForceKind::QuadraticDrag | ForceKind::MachDrag | ForceKind::Custom => true,
             ForceKind::Spring => self.spring.is_some_and(|s| s.rest_length != 0.0),
             ForceKind::PointMass => !alone,
             ForceKind::Gravity | ForceKind::ConstantForce | ForceKind::LinearDrag => false,
@@ -260,6 +285,7 @@ impl Forces {
 }
 
 impl ForceModel for Forces {
+    /// Every term but a game's own, which needs the time ([`ForceModel::force_at`]).
     #[inline]
     fn force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3 {
         let mut f = DVec3::ZERO;
@@ -287,10 +313,32 @@ impl ForceModel for Forces {
         f
     }
 
+    #[inline]
+    fn force_at(&self, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
+        let f = self.force(p, v, m);
+        match &self.custom {
+            Some(c) => f + c.force(t, p, v, m),
+            None => f,
+        }
+    }
+
+    #[inline]
+    fn nonlinear_force_at(&self, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
+        let f = self.nonlinear_force(p, v, m);
+        match &self.custom {
+            Some(c) => f + c.force(t, p, v, m),
+            None => f,
+        }
+    }
+
     fn velocity_dependent(&self) -> bool {
         self.linear_drag.is_some()
             || self.quadratic_drag.is_some()
             || self.mach_drag.is_some()
+            || self
+                .custom
+                .as_ref()
+                .is_some_and(|c| c.0.velocity_dependent())
             || self.spring.is_some_and(|s| s.damping != 0.0)
     }
 
@@ -300,6 +348,7 @@ impl ForceModel for Forces {
             || self.spring.is_some_and(|s| s.rest_length != 0.0)
             || self.point_mass.is_some()
             || self.mach_drag.is_some()
+            || self.custom.is_some()
     }
 
     #[inline]
@@ -375,7 +424,8 @@ impl ForceModel for Forces {
             || self.linear_drag.is_some()
             || self.quadratic_drag.is_some()
             || self.spring.is_some()
-            || self.mach_drag.is_some();
+            || self.mach_drag.is_some()
+            || self.custom.is_some();
         self.point_mass.filter(|_| !others)
     }
 }
@@ -468,7 +518,8 @@ impl<const CONSTANT: bool> DragField<CONSTANT> {
         let others = forces.quadratic_drag.is_some()
             || forces.spring.is_some()
             || forces.point_mass.is_some()
-            || forces.mach_drag.is_some();
+            || forces.mach_drag.is_some()
+            || forces.custom.is_some();
         (forces.constant.is_some() == CONSTANT && !others).then(|| DragField {
             forces: forces.clone(),
             gravity,

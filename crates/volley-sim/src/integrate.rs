@@ -278,13 +278,21 @@ pub(crate) trait Scheme: Sync {
     const ADAPTIVE: bool = false;
     /// Advances one body of mass `w` by `h`. `carry` is the force at the start state when
     /// [`Scheme::CARRIES_FORCE`], otherwise unused; the returned force is the end state's.
-    fn step(&self, s: BodyState, w: Mass, h: f64, carry: DVec3) -> (BodyState, DVec3);
-    /// The carried force at a state (the start of a run, after a command or a seek).
-    fn start_carry(&self, s: BodyState, w: Mass) -> DVec3;
+    /// `t` is the step's start on the world's clock (s), read only by a time-dependent term.
+    fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, carry: DVec3) -> (BodyState, DVec3);
+    /// The carried force at a state at time `t` (the start of a run, after a command or a seek).
+    fn start_carry(&self, s: BodyState, w: Mass, t: f64) -> DVec3;
     /// [`Scheme::step`] and the force evaluations it cost.
     #[inline(always)]
-    fn step_counted(&self, s: BodyState, w: Mass, h: f64, carry: DVec3) -> (BodyState, DVec3, u64) {
-        let (s, c) = self.step(s, w, h, carry);
+    fn step_counted(
+        &self,
+        s: BodyState,
+        w: Mass,
+        t: f64,
+        h: f64,
+        carry: DVec3,
+    ) -> (BodyState, DVec3, u64) {
+        let (s, c) = self.step(s, w, t, h, carry);
         (s, c, Self::EVALS)
     }
 }
@@ -361,7 +369,8 @@ pub fn step_body(
 }
 
 /// [`step_body`] at Dormand-Prince tolerance `tolerance`, with the force evaluations the step
-/// cost (Verlet's and Forest-Ruth's start force included).
+/// cost (Verlet's and Forest-Ruth's start force included). The step starts at time 0; a
+/// time-dependent term ([`crate::forces::ForceTerm`]) needs [`step_body_from`].
 pub fn step_body_at(
     integrator: Integrator,
     forces: &Forces,
@@ -370,22 +379,36 @@ pub fn step_body_at(
     m: f64,
     h: f64,
 ) -> (BodyState, u64) {
+    step_body_from(integrator, forces, tolerance, 0.0, s, m, h)
+}
+
+/// [`step_body_at`] from time `t` (s, the world's clock).
+pub fn step_body_from(
+    integrator: Integrator,
+    forces: &Forces,
+    tolerance: f64,
+    t: f64,
+    s: BodyState,
+    m: f64,
+    h: f64,
+) -> (BodyState, u64) {
     struct One {
         s: BodyState,
         w: Mass,
+        t: f64,
         h: f64,
     }
     impl SchemeVisitor for One {
         type Out = (BodyState, u64);
         fn visit<S: Scheme>(self, scheme: S) -> (BodyState, u64) {
-            let carry = scheme.start_carry(self.s, self.w);
+            let carry = scheme.start_carry(self.s, self.w, self.t);
             let start = u64::from(S::CARRIES_FORCE);
-            let (s, _, n) = scheme.step_counted(self.s, self.w, self.h, carry);
+            let (s, _, n) = scheme.step_counted(self.s, self.w, self.t, self.h, carry);
             (s, n + start)
         }
     }
     let w = Mass::new(m);
-    visit(integrator, forces, tolerance, One { s, w, h })
+    visit(integrator, forces, tolerance, One { s, w, t, h })
 }
 
 #[cfg(test)]
@@ -480,10 +503,10 @@ mod tests {
             type Out = Vec<[u64; 6]>;
             fn visit<S: Scheme>(self, scheme: S) -> Self::Out {
                 let Steps(mut s, w, h) = self;
-                let mut carry = scheme.start_carry(s, w);
+                let mut carry = scheme.start_carry(s, w, 0.0);
                 let mut out = Vec::new();
                 for _ in 0..50 {
-                    (s, carry) = scheme.step(s, w, h, carry);
+                    (s, carry) = scheme.step(s, w, 0.0, h, carry);
                     let (p, mv) = (s.p.to_array(), s.mv.to_array());
                     out.push([p[0], p[1], p[2], mv[0], mv[1], mv[2]].map(f64::to_bits));
                 }

@@ -23,7 +23,8 @@
 //! - **A world and its scene**: [`World`] (its [`Bodies`], [`BodyId`], [`BodyState`]), a
 //!   [`Scene`] from a file ([`load_scene`], [`parse_scene`]), a bundled one ([`bundled_scene`])
 //!   or code ([`Scene::builder`]); its parts [`BodySpec`], [`Launcher`], [`Volley`], [`Guard`];
-//!   forces ([`Forces`], [`ForceKind`], [`Spring`], [`PointMass`]); contacts ([`Ground`],
+//!   forces ([`Forces`], [`ForceKind`], [`Spring`], [`PointMass`], [`MachDrag`] with its
+//!   [`DragTable`] and [`Atmosphere`]); contacts ([`Ground`],
 //!   [`Wall`], [`Target`], [`Detection`]) and what they report ([`Event`], [`EventKind`]).
 //! - **The loop**: [`SimLoop`] and its [`TickObserver`]s, the [`FixedClock`] with its
 //!   [`LoopPolicy`], frame sources ([`RealClock`], [`VirtualClock`]), and where to draw between
@@ -123,14 +124,16 @@ pub mod table;
 pub mod timeline;
 
 // The game-facing surface (the crate doc lists it by purpose).
+pub use atmosphere::Atmosphere;
 pub use body::{Bodies, BodyId, BodyState};
 pub use clock::{
     ClockError, FixedClock, FrameSource, FrameTicks, LoopPolicy, RealClock, VirtualClock,
 };
 pub use command::{Command, CommandError, CommandParseError, ScriptError, Stamped, parse_script};
 pub use contact::{Detection, Event, EventKind, Ground, Surface, Target, Wall};
+pub use drag::DragTable;
 pub use firing::{FiringError, Mode as AimMode, Range as AimRange, Shot, solve as solve_aim};
-pub use forces::{ForceKind, Forces, PointMass, Spring};
+pub use forces::{ForceKind, Forces, MachDrag, PointMass, Spring};
 pub use hash::state_hash;
 pub use integrate::Integrator;
 pub use pacing::{DEFAULT_DRAW, DEFAULT_POLICY, DrawMode};

@@ -411,13 +411,13 @@ impl World {
         self.state.bodies.velocity(i)
     }
 
-    /// Net force (N) on body `i` from the active terms, at its current state.
+    /// Net force (N) on body `i` from the active terms, at its current state and time.
     pub fn force_on(&self, i: usize) -> DVec3 {
         use crate::forces::ForceModel;
         let m = self.state.bodies.mass[i];
         self.state
             .forces
-            .force(self.state.bodies.p.get(i), self.velocity(i), m)
+            .force_at(self.time(), self.state.bodies.p.get(i), self.velocity(i), m)
     }
 
     /// Mechanical energy (J) of body `i` under the active terms.

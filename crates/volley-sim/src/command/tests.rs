@@ -130,7 +130,7 @@ fn error_messages_are_pinned() {
         (
             parse("force Antigravity on"),
             "force: unknown term `Antigravity`, expected one of Gravity, ConstantForce, \
-             LinearDrag, QuadraticDrag, Spring, PointMass, MachDrag",
+             LinearDrag, QuadraticDrag, Spring, PointMass, MachDrag, Custom",
         ),
         (
             parse("force Gravity"),

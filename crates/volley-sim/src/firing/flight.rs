@@ -51,6 +51,7 @@ pub(super) fn closest_approach(range: &Range, v0: DVec3, duration: f64) -> Optio
             s,
             carry,
             w: stepped.w,
+            t: stepped.t0 + j as f64 * hs,
             tau: t - j as f64 * hs,
         };
         let p = visit(

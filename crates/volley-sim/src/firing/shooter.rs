@@ -16,6 +16,8 @@ pub(super) struct Stepped<'a> {
     pub(super) tolerance: f64,
     pub(super) w: Mass,
     pub(super) hs: f64,
+    /// The launch on the world's clock: the scene's start time.
+    pub(super) t0: f64,
 }
 
 impl<'a> Stepped<'a> {
@@ -27,6 +29,7 @@ impl<'a> Stepped<'a> {
             tolerance: range.scene.tolerance,
             w: Mass::new(range.mass),
             hs: range.sub_step(),
+            t0: range.scene.start_time,
         }
     }
 
@@ -40,6 +43,7 @@ impl<'a> Stepped<'a> {
     pub(super) fn samples(&self, v0: DVec3, count: u64) -> Vec<(BodyState, DVec3)> {
         let samples = Samples {
             s0: self.launch_state(v0),
+            t0: self.t0,
             w: self.w,
             hs: self.hs,
             count,
@@ -51,6 +55,7 @@ impl<'a> Stepped<'a> {
         let (steps, tau) = split_time(t, self.hs);
         let at = At {
             s0: self.launch_state(v0),
+            t0: self.t0,
             w: self.w,
             hs: self.hs,
             steps,

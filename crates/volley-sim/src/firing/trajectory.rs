@@ -4,9 +4,11 @@
 use super::*;
 
 /// The state of a body launched from `from` at `v0`, `t` seconds later, on the path the
-/// integrator steps (whole steps of `hs`, then one step of the remainder).
+/// integrator steps (whole steps of `hs`, then one step of the remainder). `t0` is the launch
+/// on the world's clock (the scene's start time): where a time-dependent term's clock starts.
 pub(super) struct At {
     pub(super) s0: BodyState,
+    pub(super) t0: f64,
     pub(super) w: Mass,
     pub(super) hs: f64,
     pub(super) steps: u64,
@@ -16,35 +18,48 @@ pub(super) struct At {
 impl SchemeVisitor for At {
     type Out = BodyState;
     fn visit<S: Scheme>(self, scheme: S) -> BodyState {
-        let (s, carry) = fly(&scheme, self.s0, self.w, self.hs, self.steps, |_, _| true);
-        partial(&scheme, s, carry, self.w, self.tau)
+        let (s, carry) = fly(
+            &scheme,
+            (self.s0, self.t0),
+            self.w,
+            self.hs,
+            self.steps,
+            |_, _| true,
+        );
+        let t = self.t0 + self.steps as f64 * self.hs;
+        partial(&scheme, (s, carry), self.w, (t, self.tau))
     }
 }
 
 /// One step of `tau` from `s` and its carried force, or `s` itself when `tau` is 0: the
 /// remainder after the whole steps, shared by [`At`] and [`Partial`].
-fn partial<S: Scheme>(scheme: &S, s: BodyState, carry: DVec3, w: Mass, tau: f64) -> BodyState {
+fn partial<S: Scheme>(
+    scheme: &S,
+    (s, carry): (BodyState, DVec3),
+    w: Mass,
+    (t, tau): (f64, f64),
+) -> BodyState {
     if tau > 0.0 {
-        scheme.step(s, w, tau, carry).0
+        scheme.step(s, w, t, tau, carry).0
     } else {
         s
     }
 }
 
-/// `steps` whole steps of `hs` from `s0` as a world takes them (the carried force started as
-/// at a spawn), calling `each` with every state reached and stopping early when it says so.
-/// Returns the last state and carry.
+/// `steps` whole steps of `hs` from `s0` at time `t0` as a world takes them (the carried force
+/// started as at a spawn), calling `each` with every state reached and stopping early when it
+/// says so. Returns the last state and carry.
 pub(super) fn fly<S: Scheme>(
     scheme: &S,
-    s0: BodyState,
+    (s0, t0): (BodyState, f64),
     w: Mass,
     hs: f64,
     steps: u64,
     mut each: impl FnMut(BodyState, DVec3) -> bool,
 ) -> (BodyState, DVec3) {
-    let (mut s, mut carry) = (s0, scheme.start_carry(s0, w));
-    for _ in 0..steps {
-        (s, carry) = scheme.step(s, w, hs, carry);
+    let (mut s, mut carry) = (s0, scheme.start_carry(s0, w, t0));
+    for i in 0..steps {
+        (s, carry) = scheme.step(s, w, t0 + i as f64 * hs, hs, carry);
         if !each(s, carry) {
             break;
         }
@@ -56,6 +71,7 @@ pub(super) fn fly<S: Scheme>(
 /// [`At`] (stopping early where it stops being finite).
 pub(super) struct Samples {
     pub(super) s0: BodyState,
+    pub(super) t0: f64,
     pub(super) w: Mass,
     pub(super) hs: f64,
     pub(super) count: u64,
@@ -65,27 +81,35 @@ impl SchemeVisitor for Samples {
     type Out = Vec<(BodyState, DVec3)>;
     fn visit<S: Scheme>(self, scheme: S) -> Self::Out {
         let mut out = Vec::with_capacity(self.count as usize + 1);
-        out.push((self.s0, scheme.start_carry(self.s0, self.w)));
-        fly(&scheme, self.s0, self.w, self.hs, self.count, |s, carry| {
-            out.push((s, carry));
-            s.p.is_finite()
-        });
+        out.push((self.s0, scheme.start_carry(self.s0, self.w, self.t0)));
+        fly(
+            &scheme,
+            (self.s0, self.t0),
+            self.w,
+            self.hs,
+            self.count,
+            |s, carry| {
+                out.push((s, carry));
+                s.p.is_finite()
+            },
+        );
         out
     }
 }
 
-/// One partial step of `tau` from a state and its carried force.
+/// One partial step of `tau` from a state and its carried force at time `t`.
 pub(super) struct Partial {
     pub(super) s: BodyState,
     pub(super) carry: DVec3,
     pub(super) w: Mass,
+    pub(super) t: f64,
     pub(super) tau: f64,
 }
 
 impl SchemeVisitor for Partial {
     type Out = BodyState;
     fn visit<S: Scheme>(self, scheme: S) -> BodyState {
-        partial(&scheme, self.s, self.carry, self.w, self.tau)
+        partial(&scheme, (self.s, self.carry), self.w, (self.t, self.tau))
     }
 }
 

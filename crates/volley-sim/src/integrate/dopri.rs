@@ -5,9 +5,14 @@ use glam::DVec3;
 
 use super::*;
 
-/// The Dormand-Prince 5(4) tableau: stage coefficients `a`, the 5th-order weights (the last
+/// The Dormand-Prince 5(4) tableau: stage times `c` (stages 6 and 7 at the step's end),
+/// stage coefficients `a`, the 5th-order weights (the last
 /// row of `a`, so the 7th stage is the next step's first) and the error weights `b5 - b4`.
 mod dp {
+    pub const C2: f64 = 1.0 / 5.0;
+    pub const C3: f64 = 3.0 / 10.0;
+    pub const C4: f64 = 4.0 / 5.0;
+    pub const C5: f64 = 8.0 / 9.0;
     pub const A21: f64 = 1.0 / 5.0;
     pub const A31: f64 = 3.0 / 40.0;
     pub const A32: f64 = 9.0 / 40.0;
@@ -45,11 +50,11 @@ pub(super) struct Slope {
 
 impl<F: ForceModel> Dopri5<'_, F> {
     #[inline(always)]
-    pub(super) fn slope(&self, p: DVec3, mv: DVec3, w: Mass) -> Slope {
+    pub(super) fn slope(&self, t: f64, p: DVec3, mv: DVec3, w: Mass) -> Slope {
         let v = mv * w.inv;
         Slope {
             p: v,
-            m: self.0.force(p, v, w.m),
+            m: self.0.force_at(t, p, v, w.m),
         }
     }
 }
@@ -65,15 +70,22 @@ impl<F: ForceModel> Scheme for Dopri5<'_, F> {
     const EVALS: u64 = 7;
     const ADAPTIVE: bool = true;
     #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, c: DVec3) -> (BodyState, DVec3) {
-        let (s, c, _) = self.step_counted(s, w, h, c);
+    fn step(&self, s: BodyState, w: Mass, t0: f64, h: f64, c: DVec3) -> (BodyState, DVec3) {
+        let (s, c, _) = self.step_counted(s, w, t0, h, c);
         (s, c)
     }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+    fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
     #[inline(never)]
-    fn step_counted(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3, u64) {
+    fn step_counted(
+        &self,
+        s: BodyState,
+        w: Mass,
+        t0: f64,
+        h: f64,
+        _: DVec3,
+    ) -> (BodyState, DVec3, u64) {
         use dp::*;
         let tol = self.1;
         let failed = (
@@ -84,7 +96,7 @@ impl<F: ForceModel> Scheme for Dopri5<'_, F> {
             DVec3::ZERO,
         );
         let (mut y, mut t) = (s, 0.0);
-        let mut k1 = self.slope(y.p, y.mv, w);
+        let mut k1 = self.slope(t0, y.p, y.mv, w);
         let mut evals = 1u64;
         let mut trial = h;
         for _ in 0..DOPRI_MAX_ATTEMPTS {
@@ -104,18 +116,18 @@ impl<F: ForceModel> Scheme for Dopri5<'_, F> {
             };
             let z = &k1;
             let (p, m) = at([A21, 0.0, 0.0, 0.0, 0.0], [&k1, z, z, z, z]);
-            let k2 = self.slope(p, m, w);
+            let k2 = self.slope(t0 + t + C2 * d, p, m, w);
             let (p, m) = at([A31, A32, 0.0, 0.0, 0.0], [&k1, &k2, z, z, z]);
-            let k3 = self.slope(p, m, w);
+            let k3 = self.slope(t0 + t + C3 * d, p, m, w);
             let (p, m) = at([A41, A42, A43, 0.0, 0.0], [&k1, &k2, &k3, z, z]);
-            let k4 = self.slope(p, m, w);
+            let k4 = self.slope(t0 + t + C4 * d, p, m, w);
             let (p, m) = at([A51, A52, A53, A54, 0.0], [&k1, &k2, &k3, &k4, z]);
-            let k5 = self.slope(p, m, w);
+            let k5 = self.slope(t0 + t + C5 * d, p, m, w);
             let (p, m) = at([A61, A62, A63, A64, A65], [&k1, &k2, &k3, &k4, &k5]);
-            let k6 = self.slope(p, m, w);
+            let k6 = self.slope(t0 + t + d, p, m, w);
             let next_p = y.p + d * (B1 * k1.p + B3 * k3.p + B4 * k4.p + B5 * k5.p + B6 * k6.p);
             let next_m = y.mv + d * (B1 * k1.m + B3 * k3.m + B4 * k4.m + B5 * k5.m + B6 * k6.m);
-            let k7 = self.slope(next_p, next_m, w);
+            let k7 = self.slope(t0 + t + d, next_p, next_m, w);
             evals += 6;
             let err = |k: fn(&Slope) -> DVec3| {
                 d * (E1 * k(&k1)

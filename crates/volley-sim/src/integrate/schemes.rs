@@ -22,16 +22,16 @@ pub(super) struct ImplicitMidpointSplit<'a, F>(pub(super) &'a F);
 impl<F: ForceModel> Scheme for ExplicitEuler<'_, F> {
     const EVALS: u64 = 1;
     #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
+    fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let v = s.mv * w.inv;
-        let f = self.0.force(s.p, v, w.m);
+        let f = self.0.force_at(t, s.p, v, w.m);
         let next = BodyState {
             p: s.p + h * v,
             mv: s.mv + h * f,
         };
         (next, DVec3::ZERO)
     }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+    fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
 }
@@ -39,8 +39,8 @@ impl<F: ForceModel> Scheme for ExplicitEuler<'_, F> {
 impl<F: ForceModel> Scheme for SemiImplicitEuler<'_, F> {
     const EVALS: u64 = 1;
     #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
-        let f = self.0.force(s.p, s.mv * w.inv, w.m);
+    fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
+        let f = self.0.force_at(t, s.p, s.mv * w.inv, w.m);
         let mv = s.mv + h * f;
         let next = BodyState {
             p: s.p + h * (mv * w.inv),
@@ -48,7 +48,7 @@ impl<F: ForceModel> Scheme for SemiImplicitEuler<'_, F> {
         };
         (next, DVec3::ZERO)
     }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+    fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
 }
@@ -57,43 +57,43 @@ impl<F: ForceModel> Scheme for Verlet<'_, F> {
     const EVALS: u64 = 1;
     const CARRIES_FORCE: bool = true;
     #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, f0: DVec3) -> (BodyState, DVec3) {
+    fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, f0: DVec3) -> (BodyState, DVec3) {
         let half = 0.5 * h;
         let mv_half = s.mv + half * f0;
         let v_half = mv_half * w.inv;
         let p = s.p + h * v_half;
         // Position-only model: the velocity argument is not read.
-        let f1 = self.0.force(p, v_half, w.m);
+        let f1 = self.0.force_at(t + h, p, v_half, w.m);
         let next = BodyState {
             p,
             mv: mv_half + half * f1,
         };
         (next, f1)
     }
-    fn start_carry(&self, s: BodyState, w: Mass) -> DVec3 {
-        self.0.force(s.p, s.mv * w.inv, w.m)
+    fn start_carry(&self, s: BodyState, w: Mass, t: f64) -> DVec3 {
+        self.0.force_at(t, s.p, s.mv * w.inv, w.m)
     }
 }
 
 impl<F: ForceModel> Scheme for VerletPredicted<'_, F> {
     const EVALS: u64 = 2;
     #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
+    fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let half = 0.5 * h;
-        let f0 = self.0.force(s.p, s.mv * w.inv, w.m);
+        let f0 = self.0.force_at(t, s.p, s.mv * w.inv, w.m);
         let mv_half = s.mv + half * f0;
         let p = s.p + h * (mv_half * w.inv);
         // Euler-predicted end velocity: its O(h^2) error enters the kick times h/2, so the local
         // error stays O(h^3) and the method keeps order 2 with drag.
         let v_pred = (mv_half + half * f0) * w.inv;
-        let f1 = self.0.force(p, v_pred, w.m);
+        let f1 = self.0.force_at(t + h, p, v_pred, w.m);
         let next = BodyState {
             p,
             mv: mv_half + half * f1,
         };
         (next, DVec3::ZERO)
     }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+    fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
 }
@@ -101,21 +101,21 @@ impl<F: ForceModel> Scheme for VerletPredicted<'_, F> {
 impl<F: ForceModel> Scheme for Midpoint<'_, F> {
     const EVALS: u64 = 2;
     #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
+    fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let half = 0.5 * h;
         let v = s.mv * w.inv;
-        let f = self.0.force(s.p, v, w.m);
+        let f = self.0.force_at(t, s.p, v, w.m);
         let p_mid = s.p + half * v;
         let mv_mid = s.mv + half * f;
         let v_mid = mv_mid * w.inv;
-        let f_mid = self.0.force(p_mid, v_mid, w.m);
+        let f_mid = self.0.force_at(t + half, p_mid, v_mid, w.m);
         let next = BodyState {
             p: s.p + h * v_mid,
             mv: s.mv + h * f_mid,
         };
         (next, DVec3::ZERO)
     }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+    fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
 }
@@ -123,17 +123,17 @@ impl<F: ForceModel> Scheme for Midpoint<'_, F> {
 impl<F: ForceModel> Scheme for Rk4<'_, F> {
     const EVALS: u64 = 4;
     #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
+    fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let half = 0.5 * h;
         let f = self.0;
         let k1p = s.mv * w.inv;
-        let k1m = f.force(s.p, k1p, w.m);
+        let k1m = f.force_at(t, s.p, k1p, w.m);
         let k2p = (s.mv + half * k1m) * w.inv;
-        let k2m = f.force(s.p + half * k1p, k2p, w.m);
+        let k2m = f.force_at(t + half, s.p + half * k1p, k2p, w.m);
         let k3p = (s.mv + half * k2m) * w.inv;
-        let k3m = f.force(s.p + half * k2p, k3p, w.m);
+        let k3m = f.force_at(t + half, s.p + half * k2p, k3p, w.m);
         let k4p = (s.mv + h * k3m) * w.inv;
-        let k4m = f.force(s.p + h * k3p, k4p, w.m);
+        let k4m = f.force_at(t + h, s.p + h * k3p, k4p, w.m);
         let sixth = h / 6.0;
         let next = BodyState {
             p: s.p + sixth * (k1p + 2.0 * k2p + 2.0 * k3p + k4p),
@@ -141,7 +141,7 @@ impl<F: ForceModel> Scheme for Rk4<'_, F> {
         };
         (next, DVec3::ZERO)
     }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+    fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
 }
@@ -149,10 +149,10 @@ impl<F: ForceModel> Scheme for Rk4<'_, F> {
 impl<F: ForceModel> Scheme for ImplicitEuler<'_, F> {
     const EVALS: u64 = 1;
     #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
+    fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let lin = self.0.linear_part(w.m);
         let v = s.mv * w.inv;
-        let a_nl = self.0.nonlinear_force(s.p, v, w.m) * w.inv;
+        let a_nl = self.0.nonlinear_force_at(t, s.p, v, w.m) * w.inv;
         let rhs = v + h * (lin.a0 + a_nl - lin.w2 * (s.p - lin.anchor));
         let v1 = rhs / (1.0 + h * lin.kd + h * h * lin.w2);
         let next = BodyState {
@@ -161,7 +161,7 @@ impl<F: ForceModel> Scheme for ImplicitEuler<'_, F> {
         };
         (next, DVec3::ZERO)
     }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+    fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
 }
@@ -169,7 +169,7 @@ impl<F: ForceModel> Scheme for ImplicitEuler<'_, F> {
 impl<F: ForceModel> Scheme for Exact<'_, F> {
     const EVALS: u64 = 0;
     #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
+    fn step(&self, s: BodyState, w: Mass, _: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         // The fast-path models have no point mass and no spring: these tests fold away for
         // them, leaving the drag flow, the same operations as before springs were covered.
         if let Some(pm) = self.0.lone_point_mass() {
@@ -188,7 +188,7 @@ impl<F: ForceModel> Scheme for Exact<'_, F> {
         let (p, v) = crate::exact::linear_drag_flow(s.p, s.mv * w.inv, lin.a0, lin.kd, h);
         (BodyState { p, mv: w.m * v }, DVec3::ZERO)
     }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+    fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
 }
@@ -257,20 +257,20 @@ impl VelocityTerms {
 }
 
 /// One generalised Störmer-Verlet step of length `h` from `s` with position force `fp0` at
-/// `s.p`: the new state and the position force at its position.
+/// `s.p`, ending at time `t_end`: the new state and the position force at its position.
 #[inline(always)]
 pub(super) fn generalized_verlet<F: ForceModel>(
     f: &F,
     vt: VelocityTerms,
     s: BodyState,
     w: Mass,
-    h: f64,
+    (t_end, h): (f64, f64),
     fp0: DVec3,
 ) -> (BodyState, DVec3) {
     let half = 0.5 * h;
     let v_half = vt.solve_half_kick((s.mv + half * fp0) * w.inv, h);
     let p = s.p + h * v_half;
-    let fp1 = f.force(p, DVec3::ZERO, w.m);
+    let fp1 = f.force_at(t_end, p, DVec3::ZERO, w.m);
     let mv = w.m * v_half + half * (fp1 + w.m * vt.accel(v_half));
     (BodyState { p, mv }, fp1)
 }
@@ -279,15 +279,15 @@ impl<F: ForceModel> Scheme for ForestRuth<'_, F> {
     const EVALS: u64 = 3;
     const CARRIES_FORCE: bool = true;
     #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, fp0: DVec3) -> (BodyState, DVec3) {
+    fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, fp0: DVec3) -> (BodyState, DVec3) {
         let vt = VelocityTerms::of(self.0, w);
         let (c1, c2) = (FOREST_RUTH_C1, FOREST_RUTH_C2);
-        let (s, fp) = generalized_verlet(self.0, vt, s, w, c1 * h, fp0);
-        let (s, fp) = generalized_verlet(self.0, vt, s, w, c2 * h, fp);
-        generalized_verlet(self.0, vt, s, w, c1 * h, fp)
+        let (s, fp) = generalized_verlet(self.0, vt, s, w, (t + c1 * h, c1 * h), fp0);
+        let (s, fp) = generalized_verlet(self.0, vt, s, w, (t + (c1 + c2) * h, c2 * h), fp);
+        generalized_verlet(self.0, vt, s, w, (t + h, c1 * h), fp)
     }
-    fn start_carry(&self, s: BodyState, w: Mass) -> DVec3 {
-        self.0.force(s.p, DVec3::ZERO, w.m)
+    fn start_carry(&self, s: BodyState, w: Mass, t: f64) -> DVec3 {
+        self.0.force_at(t, s.p, DVec3::ZERO, w.m)
     }
 }
 
@@ -309,7 +309,7 @@ pub(super) fn midpoint_linear(
 impl<F: ForceModel> Scheme for ImplicitMidpoint<'_, F> {
     const EVALS: u64 = 1;
     #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
+    fn step(&self, s: BodyState, w: Mass, _: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let lin = self.0.linear_part(w.m);
         let v = s.mv * w.inv;
         let v1 = midpoint_linear(&lin, v, s.p - lin.anchor, lin.a0, h);
@@ -319,7 +319,7 @@ impl<F: ForceModel> Scheme for ImplicitMidpoint<'_, F> {
         };
         (next, DVec3::ZERO)
     }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+    fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
 }
@@ -327,13 +327,16 @@ impl<F: ForceModel> Scheme for ImplicitMidpoint<'_, F> {
 impl<F: ForceModel> Scheme for ImplicitMidpointSplit<'_, F> {
     const EVALS: u64 = 2;
     #[inline(always)]
-    fn step(&self, s: BodyState, w: Mass, h: f64, _: DVec3) -> (BodyState, DVec3) {
+    fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let f = self.0;
         let lin = f.linear_part(w.m);
         let v = s.mv * w.inv;
         let half = 0.5 * h;
-        let (pm, vm) = (s.p + half * v, v + half * (f.force(s.p, v, w.m) * w.inv));
-        let a_ex = lin.a0 + f.nonlinear_force(pm, vm, w.m) * w.inv;
+        let (pm, vm) = (
+            s.p + half * v,
+            v + half * (f.force_at(t, s.p, v, w.m) * w.inv),
+        );
+        let a_ex = lin.a0 + f.nonlinear_force_at(t + half, pm, vm, w.m) * w.inv;
         let v1 = midpoint_linear(&lin, v, s.p - lin.anchor, a_ex, h);
         let next = BodyState {
             p: s.p + half * (v + v1),
@@ -341,7 +344,7 @@ impl<F: ForceModel> Scheme for ImplicitMidpointSplit<'_, F> {
         };
         (next, DVec3::ZERO)
     }
-    fn start_carry(&self, _: BodyState, _: Mass) -> DVec3 {
+    fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
 }

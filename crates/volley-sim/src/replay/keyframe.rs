@@ -96,7 +96,7 @@ pub fn decode_keyframe(
     s.integrator = *Integrator::ALL
         .get(usize::from(integrator))
         .ok_or(DecodeError::IntegratorTag(integrator))?;
-    if mask >> ForceKind::ALL.len() != 0 || carry > 1 {
+    if u16::from(mask) >> ForceKind::ALL.len() != 0 || carry > 1 {
         return Err(DecodeError::MaskOrCarry { mask, carry });
     }
     let active = |k: ForceKind| mask & (1 << (k as u8)) != 0;

@@ -80,6 +80,7 @@ pub const BUNDLED: &[(&str, &str)] = &[
         include_str!("../../../../assets/scenes/hard/tunnelling.ron"),
     ),
     ("orbit", include_str!("../../../../assets/scenes/orbit.ron")),
+    ("rifle", include_str!("../../../../assets/scenes/rifle.ron")),
     ("seed", include_str!("../../../../assets/scenes/seed.ron")),
     (
         "spring",

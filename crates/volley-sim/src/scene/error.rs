@@ -51,7 +51,7 @@ impl std::fmt::Display for InvalidValue {
 impl std::error::Error for InvalidValue {}
 
 /// What is wrong with a value in a scene (or an override of one), carrying the value given.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum ValueProblem {
     /// A number that must be finite is not.
     NotFinite(f64),
@@ -98,6 +98,8 @@ pub enum ValueProblem {
     DragTable(crate::drag::DragTableError),
     /// A Mach drag with neither or both of a ballistic coefficient and a diameter.
     DragSize,
+    /// A custom force term this program has not registered.
+    Custom(crate::forces::CustomForceError),
 }
 
 impl std::fmt::Display for ValueProblem {
@@ -149,6 +151,7 @@ impl std::fmt::Display for ValueProblem {
             ValueProblem::CannotAim(e) => write!(f, "cannot aim: {e}"),
             ValueProblem::Integrator(e) => write!(f, "{e}"),
             ValueProblem::DragTable(e) => write!(f, "{e}"),
+            ValueProblem::Custom(e) => write!(f, "{e}"),
             ValueProblem::DragSize => f.write_str(
                 "expected either `bc` (lb/in^2) or `diameter` (m) with an optional \
                  `form_factor`, not both or neither",

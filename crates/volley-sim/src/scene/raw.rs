@@ -52,6 +52,12 @@ impl Scene {
                 mu: pm.mu,
             });
         }
+        if let Some(c) = &f.custom {
+            forces.push(ForceTerm::Custom {
+                name: c.0.name().to_string(),
+                version: c.0.version(),
+            });
+        }
         if let Some(d) = &f.mach_drag {
             let r = RawMachDrag::of(d);
             forces.push(ForceTerm::MachDrag {
@@ -135,6 +141,10 @@ pub(super) enum ForceTerm {
         air: RawAir,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         wind: Option<RawWind>,
+    },
+    Custom {
+        name: String,
+        version: u32,
     },
 }
 
@@ -259,6 +269,7 @@ impl ForceTerm {
             ForceTerm::Spring { .. } => ForceKind::Spring,
             ForceTerm::PointMass { .. } => ForceKind::PointMass,
             ForceTerm::MachDrag { .. } => ForceKind::MachDrag,
+            ForceTerm::Custom { .. } => ForceKind::Custom,
         }
     }
 }

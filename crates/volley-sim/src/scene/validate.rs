@@ -201,7 +201,7 @@ pub(super) fn validate(
 }
 
 /// Refuses `exact` for forces without a closed form, and Forest-Ruth for velocity terms it
-/// cannot solve (Mach drag), naming the force.
+/// cannot solve (Mach drag, a velocity-dependent custom term), naming the force.
 pub fn check_integrator(integrator: Integrator, forces: &Forces) -> Result<(), IntegratorError> {
     match integrator {
         Integrator::Exact => match forces.without_closed_form() {
@@ -210,6 +210,14 @@ pub fn check_integrator(integrator: Integrator, forces: &Forces) -> Result<(), I
         },
         Integrator::ForestRuth if forces.mach_drag.is_some() => {
             Err(IntegratorError::NoVelocitySolve(ForceKind::MachDrag))
+        }
+        Integrator::ForestRuth
+            if forces
+                .custom
+                .as_ref()
+                .is_some_and(|c| c.0.velocity_dependent()) =>
+        {
+            Err(IntegratorError::NoVelocitySolve(ForceKind::Custom))
         }
         _ => Ok(()),
     }
@@ -265,6 +273,12 @@ pub(super) fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, InvalidValu
                     wind,
                 };
                 forces.mach_drag = Some(validate_mach_drag(&field, &raw)?);
+            }
+            ForceTerm::Custom { name, version } => {
+                forces.custom = Some(
+                    crate::forces::resolve(&name, version)
+                        .map_err(|e| invalid(field, ValueProblem::Custom(e)))?,
+                );
             }
         }
     }

@@ -58,7 +58,12 @@ impl World {
             None => chunk_over_cap(l, forces, caps),
         };
         let guard = Guard {
-            every: u64::from(self.params.guard.every),
+            // Off with a game's own term, as in `guard_energy`.
+            every: if self.state.forces.custom.is_some() {
+                0
+            } else {
+                u64::from(self.params.guard.every)
+            },
             first_tick: self.state.tick + 1,
             over_cap: &over_cap,
         };
@@ -76,6 +81,7 @@ impl World {
                     ticks,
                     substeps: self.params.substeps,
                     guard: &guard,
+                    clock: (self.params.start_time, self.params.h),
                 },
             },
         );
@@ -128,7 +134,7 @@ impl SchemeVisitor for Batch<'_, '_> {
             carry_valid,
             work,
         } = self;
-        let extra = start_carry(&scheme, &mut chunk, carry_valid);
+        let extra = start_carry(&scheme, &mut chunk, carry_valid, work.ctx.t0);
         let (evals, ok) = split_batch::<S>(&scheme, chunk, saved, events, &work);
         BatchOut {
             evals: evals + extra,
@@ -144,6 +150,9 @@ pub(super) struct BatchWork<'f> {
     ticks: u64,
     substeps: u32,
     guard: &'f Guard<'f>,
+    /// The world's start time and tick length (s): each step's start time is formed from
+    /// them as [`World::step`] forms it, so a time-dependent term sees the same bits.
+    clock: (f64, f64),
 }
 
 /// Splits a batch into `events.len()` chunks like [`split_run`], combining in order.
@@ -188,8 +197,14 @@ pub(super) fn batch_chunk<S: Scheme>(
         let mut block = l.sub(start, end);
         saved.sub(start, end).copy_state(&block);
         for tick in guard.first_tick..guard.first_tick + work.ticks {
-            for _ in 0..work.substeps {
-                let o = run::<S, false>(scheme, &mut block.sub(0, end - start), work.ctx, events);
+            for k in 0..work.substeps {
+                let (start_time, dt) = work.clock;
+                let ctx = StepContext {
+                    tick,
+                    t0: (start_time + (tick - 1) as f64 * dt) + f64::from(k) * work.ctx.h,
+                    ..*work.ctx
+                };
+                let o = run::<S, false>(scheme, &mut block.sub(0, end - start), &ctx, events);
                 evals += o.evals;
                 ok &= o.first_non_finite.is_none();
             }

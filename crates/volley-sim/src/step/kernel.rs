@@ -99,7 +99,7 @@ impl SchemeVisitor for Integrate<'_, '_> {
             events,
             carry_valid,
         } = self;
-        let extra = start_carry(&scheme, &mut chunk, carry_valid);
+        let extra = start_carry(&scheme, &mut chunk, carry_valid, ctx.t0);
         let out = if ctx.contacts.is_empty() {
             split_run::<S, false>(&scheme, chunk, ctx, events)
         } else {
@@ -117,15 +117,20 @@ impl SchemeVisitor for Integrate<'_, '_> {
 /// force where the scheme carries one and it is not valid yet. Returns the force evaluations
 /// that cost (one per body), or 0.
 #[inline]
-pub(super) fn start_carry<S: Scheme>(scheme: &S, chunk: &mut Chunk, carry_valid: bool) -> u64 {
+pub(super) fn start_carry<S: Scheme>(
+    scheme: &S,
+    chunk: &mut Chunk,
+    carry_valid: bool,
+    t: f64,
+) -> u64 {
     if S::CARRIES_FORCE && !carry_valid {
-        fill_carry(scheme, chunk)
+        fill_carry(scheme, chunk, t)
     } else {
         0
     }
 }
 
-pub(super) fn fill_carry<S: Scheme>(scheme: &S, l: &mut Chunk) -> u64 {
+pub(super) fn fill_carry<S: Scheme>(scheme: &S, l: &mut Chunk, t: f64) -> u64 {
     for i in 0..l.len() {
         let s = BodyState {
             p: DVec3::new(l.px[i], l.py[i], l.pz[i]),
@@ -135,7 +140,7 @@ pub(super) fn fill_carry<S: Scheme>(scheme: &S, l: &mut Chunk) -> u64 {
             m: l.mass[i],
             inv: l.inv_mass[i],
         };
-        let f = scheme.start_carry(s, w);
+        let f = scheme.start_carry(s, w, t);
         (l.cx[i], l.cy[i], l.cz[i]) = (f.x, f.y, f.z);
     }
     l.len() as u64 // one evaluation per body
@@ -239,7 +244,7 @@ pub(super) fn run_chunk<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
     } else {
         (&mut l.cx[..0], &mut l.cy[..0], &mut l.cz[..0])
     };
-    let h = ctx.h;
+    let (t, h) = (ctx.t0, ctx.h);
     // An adaptive scheme counts its own evaluations, body by body.
     let mut evals = if S::ADAPTIVE { 0 } else { n as u64 * S::EVALS };
     let mut all_finite = true;
@@ -262,11 +267,11 @@ pub(super) fn run_chunk<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
             DVec3::ZERO
         };
         let (mut s1, mut c1) = if S::ADAPTIVE {
-            let (s1, c1, n) = scheme.step_counted(s0, w, h, c0);
+            let (s1, c1, n) = scheme.step_counted(s0, w, t, h, c0);
             evals += n;
             (s1, c1)
         } else {
-            scheme.step(s0, w, h, c0)
+            scheme.step(s0, w, t, h, c0)
         };
         if CONTACTS && contact::needs_resolution(ctx, l.radius[i], w.inv, &s0, &s1) {
             let body = Particle {

@@ -13,8 +13,9 @@
 //!    sampled tick to the next to a relative tolerance of [`EXTRAPOLATION_TOLERANCE`], far below
 //!    any error a studied setting makes, and the reference reports its own error estimate, the
 //!    largest over bodies of the sum of its accepted steps' estimates.
-//! 4. **RK4 reference** when the scene has contacts and a force term without a closed form: the
-//!    extrapolation knows no contacts (its macro steps would step over an impact), so the scene
+//! 4. **RK4 reference** when the scene has contacts and a force term without a closed form, or
+//!    a game's own term (whose force may read the clock, which the extrapolation does not
+//!    pass): the extrapolation knows no contacts (its macro steps would step over an impact), so the scene
 //!    runs with RK4 at `R` substeps per tick, `R >= 16` chosen so the reference step is at most
 //!    1/16 of the finest dt studied, impacts found by the loop's own contact search. Its own
 //!    error is estimated from a second run at `R / 2` (twice its step): for a fourth-order
@@ -220,7 +221,9 @@ pub(crate) fn build(
             events,
         ));
     }
-    if no_contacts {
+    // The extrapolation's derivative knows no clock, so a game's own term (which may read it)
+    // takes the RK4 reference.
+    if no_contacts && scene.forces.custom.is_none() {
         let (frames, error_estimate) =
             extrapolation_frames(&world, ticks, stride, EXTRAPOLATION_TOLERANCE)?;
         let kind = ReferenceKind::Extrapolation {

@@ -9,6 +9,7 @@ mod atmosphere;
 mod ballistics;
 mod clock;
 mod convergence;
+mod custom;
 mod drag;
 mod events;
 mod exact;

@@ -1,0 +1,221 @@
+//! A game's own force term (`ForceTerm`): stepped by every integrator that can, at each stage's
+//! own time, named in scene files and recordings, refused where it must be.
+
+use std::sync::Arc;
+
+use glam::DVec3;
+use volley_sim::forces::{ForceTerm, register};
+use volley_sim::integrate::Integrator;
+use volley_sim::scene;
+use volley_sim::state_hash;
+use volley_sim::world::World;
+
+/// Quadratic drag written as a game would: `-c |v| v`, the built-in term's own operations.
+#[derive(Debug)]
+struct GameDrag(f64);
+
+impl ForceTerm for GameDrag {
+    fn name(&self) -> &str {
+        "test/game-drag"
+    }
+    fn version(&self) -> u32 {
+        1
+    }
+    fn force(&self, _t: f64, _p: DVec3, v: DVec3, _m: f64) -> DVec3 {
+        -((self.0 * v.length()) * v)
+    }
+}
+
+/// A push along x that swings with time, `F = m A cos(w t)`: position-only and time-dependent,
+/// with the closed form `x(t) = A (1 - cos(w t)) / w^2` from rest.
+#[derive(Debug)]
+struct Swing;
+
+const A: f64 = 3.0;
+const W: f64 = 2.0;
+
+impl ForceTerm for Swing {
+    fn name(&self) -> &str {
+        "test/swing"
+    }
+    fn version(&self) -> u32 {
+        2
+    }
+    fn force(&self, t: f64, _p: DVec3, _v: DVec3, m: f64) -> DVec3 {
+        DVec3::new(m * A * libm::cos(W * t), 0.0, 0.0)
+    }
+    fn velocity_dependent(&self) -> bool {
+        false
+    }
+}
+
+fn register_all() {
+    register(Arc::new(GameDrag(0.02)));
+    register(Arc::new(Swing));
+}
+
+fn scene_with(forces: &str, integrator: Integrator, dt: f64) -> scene::Scene {
+    let text = format!(
+        "Scene(dt: {dt:?}, integrator: {integrator:?}, forces: [{forces}],
+           bodies: [(mass: 1.5, position: (0, 0, 10), launch: Velocity((20, 3, 15))),
+                    (mass: 0.4, position: (1, 2, 3), launch: Velocity((-5, 0, 30)))])"
+    );
+    scene::parse(&text, "custom.ron", "custom").unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn a_games_drag_steps_to_the_bits_of_the_built_in_term_it_equals() {
+    register_all();
+    let gravity = "Gravity((0, 0, -9.81))";
+    for integrator in Integrator::ALL {
+        if matches!(integrator, Integrator::Exact | Integrator::ForestRuth) {
+            continue; // both refuse it (tested below)
+        }
+        let run = |forces: String| {
+            let mut w = World::new(&scene_with(&forces, integrator, 1.0 / 60.0));
+            w.step_ticks(120).unwrap();
+            state_hash(&w)
+        };
+        assert_eq!(
+            run(format!("{gravity}, QuadraticDrag(0.02)")),
+            run(format!(
+                "{gravity}, Custom(name: \"test/game-drag\", version: 1)"
+            )),
+            "{integrator}"
+        );
+    }
+}
+
+#[test]
+fn a_time_dependent_term_is_read_at_each_stages_time() {
+    // RK4's error at t = 2 s falls 16-fold per halving of the step only if every stage reads
+    // the force at its own time (one stale stage time drops the order to 1).
+    register_all();
+    let err = |dt: f64| {
+        let text = format!(
+            "Scene(dt: {dt:?}, integrator: Rk4, forces: [Custom(name: \"test/swing\", version: 2)],
+               bodies: [(mass: 2, position: (0, 0, 0))])"
+        );
+        let mut w = World::new(&scene::parse(&text, "swing.ron", "swing").unwrap());
+        let ticks = (2.0 / dt).round() as u64;
+        w.step_ticks(ticks).unwrap();
+        let t = w.time();
+        let exact = A * (1.0 - libm::cos(W * t)) / (W * W);
+        (w.bodies().positions().get(0).x - exact).abs()
+    };
+    let (e1, e2) = (err(0.1), err(0.05));
+    let order = (e1 / e2).log2();
+    assert!((3.7..4.3).contains(&order), "RK4's observed order {order}");
+    // Velocity Verlet (position-only, carried force): order 2.
+    let text = |dt: f64| {
+        format!(
+            "Scene(dt: {dt:?}, integrator: VelocityVerlet, forces: [Custom(name: \"test/swing\", version: 2)],
+               bodies: [(mass: 2, position: (0, 0, 0))])"
+        )
+    };
+    let verlet = |dt: f64| {
+        let mut w = World::new(&scene::parse(&text(dt), "swing.ron", "swing").unwrap());
+        w.step_ticks((2.0 / dt).round() as u64).unwrap();
+        let exact = A * (1.0 - libm::cos(W * w.time())) / (W * W);
+        (w.bodies().positions().get(0).x - exact).abs()
+    };
+    let order = (verlet(0.1) / verlet(0.05)).log2();
+    assert!(
+        (1.8..2.2).contains(&order),
+        "velocity Verlet's observed order {order}"
+    );
+}
+
+#[test]
+fn a_batch_and_single_ticks_give_a_time_dependent_term_the_same_bits() {
+    register_all();
+    let forces = "Gravity((0, 0, -9.81)), Custom(name: \"test/swing\", version: 2)";
+    for integrator in [
+        Integrator::Rk4,
+        Integrator::VelocityVerlet,
+        Integrator::Dopri5,
+    ] {
+        let scene = scene_with(forces, integrator, 0.01);
+        let (mut a, mut b) = (World::new(&scene), World::new(&scene));
+        a.step_ticks(200).unwrap();
+        for _ in 0..200 {
+            b.step().unwrap();
+        }
+        assert_eq!(state_hash(&a), state_hash(&b), "{integrator}");
+    }
+}
+
+#[test]
+fn a_scene_naming_a_term_this_program_lacks_is_refused_in_one_line() {
+    register_all();
+    let unknown = "Custom(name: \"someone-else/thrust\", version: 1)";
+    let err = scene::parse(
+        &format!("Scene(dt: 0.01, integrator: Rk4, forces: [{unknown}])"),
+        "replay.ron",
+        "r",
+    )
+    .unwrap_err();
+    assert_eq!(err.field.as_deref(), Some("forces[0]"), "{err}");
+    let text = err.to_string();
+    assert!(
+        text.contains("`someone-else/thrust` (version 1) is not registered"),
+        "{text}"
+    );
+    assert!(!text.contains('\n'));
+    let other = "Custom(name: \"test/swing\", version: 1)";
+    let err = scene::parse(
+        &format!("Scene(dt: 0.01, integrator: Rk4, forces: [{other}])"),
+        "replay.ron",
+        "r",
+    )
+    .unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("is version 1 here, and this program has version 2"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_saved_scene_names_the_term_and_its_version() {
+    register_all();
+    let scene = scene_with(
+        "Custom(name: \"test/swing\", version: 2)",
+        Integrator::Rk4,
+        0.01,
+    );
+    let text = scene.to_ron();
+    let squeezed: String = text.split_whitespace().collect();
+    assert!(
+        squeezed.contains("Custom(name:\"test/swing\",version:2,)"),
+        "{text}"
+    );
+    let back = scene::parse(&text, "saved.ron", "saved").unwrap();
+    assert_eq!(back.forces, scene.forces);
+}
+
+#[test]
+fn exact_refuses_any_custom_term_and_forest_ruth_a_velocity_dependent_one() {
+    register_all();
+    let drag = "Custom(name: \"test/game-drag\", version: 1)";
+    let swing = "Custom(name: \"test/swing\", version: 2)";
+    let parse = |forces: &str, i: &str| {
+        scene::parse(
+            &format!("Scene(dt: 0.01, integrator: {i}, forces: [{forces}])"),
+            "x.ron",
+            "x",
+        )
+    };
+    let err = parse(swing, "Exact").unwrap_err();
+    assert!(
+        err.to_string().contains("force term Custom has none"),
+        "{err}"
+    );
+    let err = parse(drag, "ForestRuth").unwrap_err();
+    assert!(
+        err.to_string().contains("force term Custom has none"),
+        "{err}"
+    );
+    // A position-only term is Forest-Ruth's to step: order 4 on the swing.
+    parse(swing, "ForestRuth").unwrap();
+}
