@@ -429,7 +429,10 @@ fn simulation(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut 
         let slider = egui::Slider::new(value, range).text(text).suffix(suffix);
         ui.add(slider).changed()
     };
-    let s = launch(ui, &mut state.speed, 0.0..=200.0, "speed", " m/s");
+    // Up to 200 m/s for a thrown or kicked ball; a bullet's scene (the rifle's 838 m/s) gets a
+    // range to 1200 m/s, so the slider shows its speed instead of clamping it.
+    let top = if state.speed > 200.0 { 1200.0 } else { 200.0 };
+    let s = launch(ui, &mut state.speed, 0.0..=top, "speed", " m/s");
     let e = launch(
         ui,
         &mut state.elevation_deg,

@@ -249,6 +249,9 @@ pub struct Probe {
     pub energy: f64,
     /// Position error against the body's closed-form reference there (m), if it has one.
     pub error: Option<f64>,
+    /// With a Mach drag declared: the Mach number (speed through the air over the speed of
+    /// sound there) and the air's density (kg/m^3) there.
+    pub air: Option<(f64, f64)>,
 }
 
 impl Probe {
@@ -270,6 +273,11 @@ impl Probe {
                 .flatten()
                 .map(|exact| (at.p - exact.p).length())
         });
+        let air = world
+            .forces()
+            .mach_drag
+            .as_ref()
+            .map(|d| (d.mach(at.p, at.v), d.air.at(at.p.z).0));
         Probe {
             lane: lane.to_string(),
             body: track.id,
@@ -277,6 +285,7 @@ impl Probe {
             at,
             energy,
             error,
+            air,
         }
     }
 
@@ -300,6 +309,9 @@ impl Probe {
             Some(e) => format!("|p - p_exact| = {e:.4e} m"),
             None => "no closed-form reference here".to_string(),
         });
+        if let Some((mach, density)) = self.air {
+            out.push(format!("Mach {mach:.3}, air {density:.4} kg/m^3"));
+        }
         out
     }
 }

@@ -181,3 +181,75 @@ fn a_script_hovers_and_pins_the_probe_on_an_apex_in_the_real_window() {
         .count();
     assert!(light > 500, "{light}");
 }
+
+#[test]
+fn over_a_bullet_the_probe_reads_its_mach_number_and_the_air() {
+    // The bundled rifle: a G7 bullet at 838.2 m/s in the ICAO atmosphere with a 3 m/s crosswind.
+    let mut s = session("rifle", vec![Integrator::Rk4]);
+    s.run_ticks(30);
+    let lane = &s.lanes()[0];
+    let track = &lane.history.probe.tracks()[0];
+    let mark = &track.markers[0];
+    let probe = Probe::read(
+        "rk4",
+        &lane.sim.world,
+        track,
+        "tenth",
+        mark.at,
+        &lane.history.references,
+    );
+    let (mach, density) = probe.air.expect("a Mach drag is declared");
+    // Its speed through the air over the sound speed at its height, as the term computes it;
+    // and the ICAO density at its height (the tabulated column's bound, 1e-9 relative).
+    let drag = lane.sim.world.forces().mach_drag.clone().unwrap();
+    let wind = DVec3::new(0.0, 3.0, 0.0);
+    let sound = volley::Atmosphere::ICAO.at(mark.at.p.z).speed_of_sound;
+    assert!(
+        ((mark.at.v - wind).length() / sound - mach).abs() < 1e-8,
+        "{mach}"
+    );
+    assert_eq!(mach, drag.mach(mark.at.p, mark.at.v));
+    let icao = volley::Atmosphere::ICAO.at(mark.at.p.z).density;
+    assert!(
+        ((density - icao) / icao).abs() < 1e-9,
+        "{density} vs {icao}"
+    );
+    // 0.1 s out it is still near Mach 2.3 (the peer's 770 m/s at 100 m, 0.12 s).
+    assert!((2.1..2.4).contains(&mach), "{mach}");
+    let last = probe.lines().pop().unwrap();
+    assert_eq!(last, format!("Mach {mach:.3}, air {density:.4} kg/m^3"));
+}
+
+#[test]
+fn a_script_pins_the_probe_on_the_rifle_bullet_in_the_real_window() {
+    let test = "a_script_pins_the_probe_on_the_rifle_bullet_in_the_real_window";
+    let dir = support::scratch_dir(test);
+    let script = dir.join("probe.script");
+    std::fs::write(
+        &script,
+        "wait 75\nhover marker apex\nwait 2\npin\nwait 10\n",
+    )
+    .unwrap();
+    let shot = dir.join("rifle.png");
+    let args = [
+        "window",
+        "rifle",
+        "--script",
+        script.to_str().unwrap(),
+        "--exit-after-frames",
+        "95",
+        "--no-watch",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ];
+    let Some(stdout) = crate::window_smoke::window_stdout(test, &args, "1280x800") else {
+        return;
+    };
+    let probe = stdout
+        .lines()
+        .find(|l| l.starts_with("probe: "))
+        .unwrap_or_else(|| panic!("no probe line: {stdout}"));
+    assert!(probe.contains("body 0 (apex)"), "{probe}");
+    assert!(probe.contains("Mach "), "{probe}");
+    assert!(probe.contains(" kg/m^3"), "{probe}");
+}

@@ -164,6 +164,16 @@ impl ForceKind {
     }
 }
 
+/// The kinds that can add energy ([`Forces::potential`]), in the order [`ForceModel::energy`]
+/// sums them.
+const ENERGY_KINDS: [ForceKind; 5] = [
+    ForceKind::Gravity,
+    ForceKind::ConstantForce,
+    ForceKind::Spring,
+    ForceKind::PointMass,
+    ForceKind::MachDrag,
+];
+
 /// The declared force terms of a scene, at most one of each kind.
 ///
 /// An empty slot is never evaluated. Fields are public plain data, as in a scene file. Not
@@ -275,6 +285,33 @@ impl Forces {
             a += f / m;
         }
         a
+    }
+
+    /// The energy (J) term `kind` adds to the kinetic energy of a body of mass `m` at `p`
+    /// moving at `v`: its potential, or with wind the Mach drag's change to the kinetic energy
+    /// in the air's frame (drag only ever takes energy away there; exact for a uniform wind
+    /// with gravity, and with a profile the frame at the body's height). `None` where the term
+    /// is undeclared or adds none. What [`ForceModel::energy`] sums and the guard's energy
+    /// scale takes term by term.
+    #[inline]
+    pub fn potential(&self, kind: ForceKind, p: DVec3, v: DVec3, m: f64) -> Option<f64> {
+        match kind {
+            ForceKind::Gravity => self.gravity.map(|g| -(m * g.dot(p))),
+            ForceKind::ConstantForce => self.constant.map(|c| -c.dot(p)),
+            ForceKind::Spring => self.spring.map(|s| {
+                let stretch = (p - s.anchor).length() - s.rest_length;
+                0.5 * s.stiffness * stretch * stretch
+            }),
+            ForceKind::PointMass => self
+                .point_mass
+                .map(|pm| -(m * pm.mu / (p - pm.center).length())),
+            ForceKind::MachDrag => self
+                .mach_drag
+                .as_ref()
+                .and_then(|d| d.wind)
+                .map(|w| 0.5 * m * ((v - w.at(p.z)).length_squared() - v.length_squared())),
+            ForceKind::LinearDrag | ForceKind::QuadraticDrag | ForceKind::Custom => None,
+        }
     }
 
     /// Linear drag rate b/m (1/s) for a body of mass `m`, 0 if undeclared.
@@ -396,23 +433,12 @@ impl ForceModel for Forces {
 
     fn energy(&self, p: DVec3, v: DVec3, m: f64) -> f64 {
         let mut e = 0.5 * m * v.length_squared();
-        if let Some(g) = self.gravity {
-            e -= m * g.dot(p);
-        }
-        if let Some(c) = self.constant {
-            e -= c.dot(p);
-        }
-        if let Some(s) = self.spring {
-            let stretch = (p - s.anchor).length() - s.rest_length;
-            e += 0.5 * s.stiffness * stretch * stretch;
-        }
-        if let Some(pm) = self.point_mass {
-            e -= m * pm.mu / (p - pm.center).length();
-        }
-        if let Some(w) = self.mach_drag.as_ref().and_then(|d| d.wind) {
-            // The kinetic energy in the air's frame: drag only ever takes it away there. Exact
-            // for a uniform wind with gravity; with a profile, the frame at the body's height.
-            e += 0.5 * m * ((v - w.at(p.z)).length_squared() - v.length_squared());
+        // `e + (-x)` is `e - x` to the bit, so this is the sum as the terms were once written
+        // out one by one.
+        for kind in ENERGY_KINDS {
+            if let Some(x) = self.potential(kind, p, v, m) {
+                e += x;
+            }
         }
         e
     }

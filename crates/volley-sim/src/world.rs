@@ -283,15 +283,18 @@ impl World {
         let (s, m) = (self.state.bodies.state(i), self.state.bodies.mass[i]);
         let v = self.state.bodies.velocity(i);
         let energy = self.state.forces.energy(s.p, v, m);
+        let kinetic = 0.5 * m * v.length_squared();
+        // Each term's energy alone minus the kinetic, as `(kinetic + x) - kinetic`: the bits
+        // the scale had when it was computed from a copy of the forces with that term alone.
         let scale = crate::forces::ForceKind::ALL
             .into_iter()
             .filter(|k| self.state.forces.has(*k))
             .map(|k| {
-                let only = self.state.forces.filtered(|j| j == k);
-                (only.energy(s.p, v, m) - 0.5 * m * v.length_squared()).abs()
+                let only = kinetic + self.state.forces.potential(k, s.p, v, m).unwrap_or(0.0);
+                (only - kinetic).abs()
             })
             .sum::<f64>()
-            + 0.5 * m * v.length_squared();
+            + kinetic;
         let floor = f64::MIN_POSITIVE.max(1e-12 * m);
         energy + (self.params.guard.energy_factor - 1.0) * scale.max(floor)
     }

@@ -86,7 +86,8 @@ fn energy_and_scale(world: &World, forces: &Forces) -> (f64, f64) {
         energy += forces.energy(p, v, m);
         scale += kinetic;
         for kind in forces.kinds() {
-            scale += (forces.filtered(|k| k == kind).energy(p, v, m) - kinetic).abs();
+            let only = kinetic + forces.potential(kind, p, v, m).unwrap_or(0.0);
+            scale += (only - kinetic).abs();
         }
     }
     (energy, scale)
