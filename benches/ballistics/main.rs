@@ -274,7 +274,12 @@ fn main() {
         );
         let _ = writeln!(md, "|---|---:|---:|---:|");
     }
+    // From a fifth of a second (10 steps to 1000 m), so "equal accuracy" finds the coarsest
+    // step that matches the peer.
     let steps = [
+        0.2,
+        0.1,
+        1.0 / 15.0,
         1.0 / 30.0,
         1.0 / 60.0,
         1.0 / 120.0,

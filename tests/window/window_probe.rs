@@ -135,36 +135,10 @@ fn arrows_are_the_velocity_and_the_net_force_to_the_stated_scale() {
 #[test]
 fn a_script_hovers_and_pins_the_probe_on_an_apex_in_the_real_window() {
     let test = "a_script_hovers_and_pins_the_probe_on_an_apex_in_the_real_window";
-    let dir = support::scratch_dir(test);
-    let script = dir.join("probe.script");
-    std::fs::write(
-        &script,
-        "wait 45\nhover marker apex\nwait 2\npin\nwait 10\n",
-    )
-    .unwrap();
-    let shot = dir.join("probe.png");
-    let args = [
-        "window",
-        "seed",
-        "--compare",
-        "explicit-euler,rk4",
-        "--script",
-        script.to_str().unwrap(),
-        "--time-scale",
-        "4",
-        "--exit-after-frames",
-        "60",
-        "--no-watch",
-        "--screenshot",
-        shot.to_str().unwrap(),
-    ];
-    let Some(stdout) = crate::window_smoke::window_stdout(test, &args, "1280x800") else {
+    let extra = ["--compare", "explicit-euler,rk4", "--time-scale", "4"];
+    let Some((probe, shot)) = pinned_probe(test, "seed", 45, 60, &extra) else {
         return;
     };
-    let probe = stdout
-        .lines()
-        .find(|l| l.starts_with("probe: "))
-        .unwrap_or_else(|| panic!("no probe line: {stdout}"));
     // Pinned on lane 0's (explicit Euler's) apex: vertical speed 0 there, and its error.
     assert!(probe.contains("explicit-euler body 0 (apex)"), "{probe}");
     assert!(
@@ -223,33 +197,43 @@ fn over_a_bullet_the_probe_reads_its_mach_number_and_the_air() {
 #[test]
 fn a_script_pins_the_probe_on_the_rifle_bullet_in_the_real_window() {
     let test = "a_script_pins_the_probe_on_the_rifle_bullet_in_the_real_window";
+    // The rifle's apex is near t = 1 s: hover it after 75 frames (1.25 s at 60 Hz).
+    let Some((probe, _)) = pinned_probe(test, "rifle", 75, 95, &[]) else {
+        return;
+    };
+    assert!(probe.contains("body 0 (apex)"), "{probe}");
+    assert!(probe.contains("Mach "), "{probe}");
+    assert!(probe.contains(" kg/m^3"), "{probe}");
+}
+
+/// Runs the real window on `scene` with a script that waits `wait` frames, hovers the apex
+/// marker and pins the probe there, for `frames` frames in all with `extra` arguments; the
+/// probe line it prints and its screenshot, or `None` where the window test is skipped.
+fn pinned_probe(
+    test: &str,
+    scene: &str,
+    wait: u32,
+    frames: u32,
+    extra: &[&str],
+) -> Option<(String, std::path::PathBuf)> {
     let dir = support::scratch_dir(test);
     let script = dir.join("probe.script");
     std::fs::write(
         &script,
-        "wait 75\nhover marker apex\nwait 2\npin\nwait 10\n",
+        format!("wait {wait}\nhover marker apex\nwait 2\npin\nwait 10\n"),
     )
     .unwrap();
-    let shot = dir.join("rifle.png");
-    let args = [
-        "window",
-        "rifle",
-        "--script",
-        script.to_str().unwrap(),
-        "--exit-after-frames",
-        "95",
-        "--no-watch",
-        "--screenshot",
-        shot.to_str().unwrap(),
-    ];
-    let Some(stdout) = crate::window_smoke::window_stdout(test, &args, "1280x800") else {
-        return;
-    };
+    let shot = dir.join("probe.png");
+    let frames = frames.to_string();
+    let mut args = vec!["window", scene, "--script", script.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["--exit-after-frames", &frames, "--no-watch", "--screenshot"]);
+    args.push(shot.to_str().unwrap());
+    let stdout = crate::window_smoke::window_stdout(test, &args, "1280x800")?;
     let probe = stdout
         .lines()
         .find(|l| l.starts_with("probe: "))
-        .unwrap_or_else(|| panic!("no probe line: {stdout}"));
-    assert!(probe.contains("body 0 (apex)"), "{probe}");
-    assert!(probe.contains("Mach "), "{probe}");
-    assert!(probe.contains(" kg/m^3"), "{probe}");
+        .unwrap_or_else(|| panic!("no probe line: {stdout}"))
+        .to_string();
+    Some((probe, shot))
 }

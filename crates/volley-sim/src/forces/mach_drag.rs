@@ -195,8 +195,9 @@ pub struct MachDrag {
 }
 
 impl MachDrag {
-    /// Force (N) on a body of mass `m` (kg) at `p` (m) moving at `v` (m/s).
-    #[inline]
+    /// Force (N) on a body of mass `m` (kg) at `p` (m) moving at `v` (m/s). Out of line, so
+    /// that the general model's force stays small enough to inline for the scenes without it.
+    #[inline(never)]
     pub fn force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3 {
         let u = v - self.wind_at(p.z);
         let (density, sound) = self.air.at(p.z);

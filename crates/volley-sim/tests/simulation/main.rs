@@ -21,4 +21,5 @@ mod parallel;
 mod rest_event;
 mod seed;
 mod stability;
+mod transonic;
 mod world;

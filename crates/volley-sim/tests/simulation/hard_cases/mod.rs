@@ -1,4 +1,4 @@
-//! The thirteen hard cases of docs/physics.md ("Hard cases"), one scene each under `assets/scenes/hard/`, asserted for
+//! Thirteen of the hard cases of docs/physics.md ("Hard cases"; the fourteenth is `transonic.rs`), one scene each under `assets/scenes/hard/`, asserted for
 //! every integrator: who stays bounded, who diverges, and when the guard catches it.
 //!
 //! Every expected number is derived in the test from the math of the case (growth factors of
