@@ -314,6 +314,16 @@ impl Forces {
         }
     }
 
+    /// `f` plus a game's own term at time `t`, if one is declared (it is always explicit, so
+    /// the full force and the explicit part both take it).
+    #[inline(always)]
+    fn plus_custom(&self, f: DVec3, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
+        match &self.custom {
+            Some(c) => f + c.force(t, p, v, m),
+            None => f,
+        }
+    }
+
     /// Linear drag rate b/m (1/s) for a body of mass `m`, 0 if undeclared.
     #[inline]
     pub fn drag_rate(&self, m: f64) -> f64 {
@@ -352,20 +362,12 @@ impl ForceModel for Forces {
 
     #[inline]
     fn force_at(&self, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
-        let f = self.force(p, v, m);
-        match &self.custom {
-            Some(c) => f + c.force(t, p, v, m),
-            None => f,
-        }
+        self.plus_custom(self.force(p, v, m), t, p, v, m)
     }
 
     #[inline]
     fn nonlinear_force_at(&self, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
-        let f = self.nonlinear_force(p, v, m);
-        match &self.custom {
-            Some(c) => f + c.force(t, p, v, m),
-            None => f,
-        }
+        self.plus_custom(self.nonlinear_force(p, v, m), t, p, v, m)
     }
 
     fn velocity_dependent(&self) -> bool {
