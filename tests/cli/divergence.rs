@@ -31,6 +31,7 @@ fn light_body() -> Command {
         radius: 0.0,
         position: glam::DVec3::new(0.0, 1.0, 0.0),
         velocity: glam::DVec3::ZERO,
+        spin: Default::default(),
     })
 }
 

@@ -68,6 +68,7 @@ fn a_body_the_snapshot_never_saw_is_drawn_at_its_current_position() {
             radius: 0.1,
             position: DVec3::new(5.0, 0.0, 0.0),
             velocity: DVec3::new(0.0, 4.0, 0.0),
+            spin: Default::default(),
         }))
         .unwrap();
     world.step().unwrap();

@@ -19,22 +19,57 @@ pub struct BodyState {
     pub mv: DVec3,
 }
 
-/// A body's mass and its reciprocal, computed once at spawn.
+/// A body's mass and its reciprocal, computed once at spawn, and what was fixed at its launch.
 ///
-/// The hot loop forms `V = mV * (1/m)`: a multiply instead of a divide per component.
+/// The hot loop forms `V = mV * (1/m)`: a multiply instead of a divide per component. The
+/// launch values are read only by the terms that need them (a spin's lift, a motor's thrust);
+/// the loop fills them only when such a term is declared.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Mass {
     /// Mass m (kg).
     pub m: f64,
     /// 1 / m (1/kg).
     pub inv: f64,
+    /// The body's launch.
+    pub launch: Launch,
+}
+
+/// What is fixed when a body is launched (spawned): the clock, its mass then, and its spin.
+///
+/// Not state that a step changes, so not in the state hash: every value follows from the scene
+/// and the commands (docs/physics.md, "Spin and thrust").
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Launch {
+    /// The world's time at launch (s): a motor's clock starts here, a spin decays from here.
+    pub time: f64,
+    /// The mass at launch (kg), propellant included.
+    pub mass: f64,
+    /// Angular velocity at launch (rad/s, world axes).
+    pub spin: DVec3,
 }
 
 impl Mass {
-    /// A mass and its reciprocal.
+    /// A mass and its reciprocal, launched at time 0 without spin.
     #[inline(always)]
     pub fn new(m: f64) -> Mass {
-        Mass { m, inv: 1.0 / m }
+        Mass::launched(
+            m,
+            Launch {
+                time: 0.0,
+                mass: m,
+                spin: DVec3::ZERO,
+            },
+        )
+    }
+
+    /// A mass and its reciprocal with its launch.
+    #[inline(always)]
+    pub fn launched(m: f64, launch: Launch) -> Mass {
+        Mass {
+            m,
+            inv: 1.0 / m,
+            launch,
+        }
     }
 }
 
@@ -148,6 +183,12 @@ pub struct Bodies {
     pub radius: Vec<f64>,
     /// Energy above which the guard stops the run, per body (J).
     pub energy_cap: Vec<f64>,
+    /// Launch times (s): [`Launch::time`].
+    pub launch_time: Vec<f64>,
+    /// Masses at launch (kg): [`Launch::mass`].
+    pub launch_mass: Vec<f64>,
+    /// Spins at launch (rad/s): [`Launch::spin`].
+    pub spin: Vec3s,
 }
 
 /// One f64 column of [`Bodies`]: its name in reports and its place in [`COLUMNS`].
@@ -175,9 +216,10 @@ impl Column {
 
 /// Every f64 column of [`Bodies`] that is state, in the order keyframes store them. The first
 /// [`HASHED_COLUMNS`] are what the state hash covers after each body's id; the rest (the guard's
-/// bound, derived from the scene and the start state) are stored and compared, not hashed.
+/// bound, derived from the scene and the start state, and the [`Launch`], fixed at spawn from
+/// the scene and the commands) are stored and compared, not hashed.
 /// [`Bodies::column`] maps each index to its field.
-pub const COLUMNS: [Column; 9] = {
+pub const COLUMNS: [Column; 14] = {
     let names = [
         "p.x",
         "p.y",
@@ -188,8 +230,13 @@ pub const COLUMNS: [Column; 9] = {
         "mass",
         "radius",
         "energy_cap",
+        "launch.time",
+        "launch.mass",
+        "spin.x",
+        "spin.y",
+        "spin.z",
     ];
-    let mut out = [Column { name: "", index: 0 }; 9];
+    let mut out = [Column { name: "", index: 0 }; 14];
     let mut i = 0;
     while i < names.len() {
         out[i] = Column {
@@ -251,6 +298,26 @@ impl Bodies {
         self.mv.get(i) * self.inv_mass[i]
     }
 
+    /// The launch of the body at storage index `i`.
+    #[inline]
+    pub fn launch(&self, i: usize) -> Launch {
+        Launch {
+            time: self.launch_time[i],
+            mass: self.launch_mass[i],
+            spin: self.spin.get(i),
+        }
+    }
+
+    /// Mass, reciprocal and launch of the body at storage index `i`, as the step forms them.
+    #[inline]
+    pub fn mass_of(&self, i: usize) -> Mass {
+        Mass {
+            m: self.mass[i],
+            inv: self.inv_mass[i],
+            launch: self.launch(i),
+        }
+    }
+
     /// State of the body at storage index `i`.
     #[inline]
     pub fn state(&self, i: usize) -> BodyState {
@@ -273,9 +340,10 @@ impl Bodies {
         id: BodyId,
         position: DVec3,
         velocity: DVec3,
-        mass: f64,
         radius: f64,
+        launch: Launch,
     ) {
+        let mass = launch.mass;
         let mv = mass * velocity;
         let values = [
             position.x,
@@ -287,6 +355,11 @@ impl Bodies {
             mass,
             radius,
             f64::INFINITY,
+            launch.time,
+            launch.mass,
+            launch.spin.x,
+            launch.spin.y,
+            launch.spin.z,
         ];
         for (column, value) in COLUMNS.iter().zip(values) {
             column.get_mut(self).push(value);
@@ -333,7 +406,12 @@ impl Bodies {
             6 => &self.mass,
             7 => &self.radius,
             8 => &self.energy_cap,
-            _ => unreachable!("COLUMNS has 9 entries"),
+            9 => &self.launch_time,
+            10 => &self.launch_mass,
+            11 => &self.spin.x,
+            12 => &self.spin.y,
+            13 => &self.spin.z,
+            _ => unreachable!("COLUMNS has 14 entries"),
         }
     }
 
@@ -350,7 +428,12 @@ impl Bodies {
             6 => &mut self.mass,
             7 => &mut self.radius,
             8 => &mut self.energy_cap,
-            _ => unreachable!("COLUMNS has 9 entries"),
+            9 => &mut self.launch_time,
+            10 => &mut self.launch_mass,
+            11 => &mut self.spin.x,
+            12 => &mut self.spin.y,
+            13 => &mut self.spin.z,
+            _ => unreachable!("COLUMNS has 14 entries"),
         }
     }
 

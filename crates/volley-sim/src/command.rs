@@ -98,8 +98,15 @@ pub enum CommandError {
     SpawnMass(f64),
     /// `spawn` with a radius that is not a finite number >= 0.
     SpawnRadius(f64),
-    /// `spawn` with a position or velocity that is not finite.
+    /// `spawn` with a position, velocity or spin that is not finite.
     SpawnState,
+    /// `spawn` of a body not heavier than the scene's motor's propellant.
+    SpawnPropellant {
+        /// The body's mass (kg).
+        mass: f64,
+        /// The propellant (kg).
+        propellant: f64,
+    },
 }
 
 impl std::fmt::Display for CommandError {
@@ -126,7 +133,13 @@ impl std::fmt::Display for CommandError {
             ),
             CommandError::SpawnMass(m) => write!(f, "spawn: mass must be > 0, got {m}"),
             CommandError::SpawnRadius(r) => write!(f, "spawn: radius must be >= 0, got {r}"),
-            CommandError::SpawnState => f.write_str("spawn: position and velocity must be finite"),
+            CommandError::SpawnState => {
+                f.write_str("spawn: position, velocity and spin must be finite")
+            }
+            CommandError::SpawnPropellant { mass, propellant } => write!(
+                f,
+                "spawn: mass must be more than the motor's {propellant} kg of propellant, got {mass}"
+            ),
         }
     }
 }
@@ -141,16 +154,19 @@ impl World {
                 return Err(CommandError::TooManyBodies);
             }
             Command::Fire => {
-                let l = self.state.launcher;
-                self.spawn(&BodySpec {
-                    mass: l.mass,
-                    radius: l.radius,
-                    position: l.position,
-                    velocity: l.velocity(),
-                });
+                let body = self.state.launcher.body();
+                self.spawn(&body);
             }
             Command::Spawn(spec) => {
                 check_spec(&spec)?;
+                if let Some(t) = &self.state.forces.thrust
+                    && spec.mass <= t.propellant
+                {
+                    return Err(CommandError::SpawnPropellant {
+                        mass: spec.mass,
+                        propellant: t.propellant,
+                    });
+                }
                 self.spawn(&spec);
             }
             Command::Despawn(id) => {
@@ -229,7 +245,7 @@ fn check_spec(spec: &BodySpec) -> Result<(), CommandError> {
     if !(spec.radius.is_finite() && spec.radius >= 0.0) {
         return Err(CommandError::SpawnRadius(spec.radius));
     }
-    if !(spec.position.is_finite() && spec.velocity.is_finite()) {
+    if !(spec.position.is_finite() && spec.velocity.is_finite() && spec.spin.is_finite()) {
         return Err(CommandError::SpawnState);
     }
     Ok(())
@@ -244,14 +260,20 @@ impl std::fmt::Display for Command {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Command::Fire => f.write_str("fire"),
-            Command::Spawn(s) => write!(
-                f,
-                "spawn mass={} radius={} position={} velocity={}",
-                s.mass,
-                s.radius,
-                vec3(s.position),
-                vec3(s.velocity)
-            ),
+            Command::Spawn(s) => {
+                write!(
+                    f,
+                    "spawn mass={} radius={} position={} velocity={}",
+                    s.mass,
+                    s.radius,
+                    vec3(s.position),
+                    vec3(s.velocity)
+                )?;
+                if s.spin != DVec3::ZERO {
+                    write!(f, " spin={}", vec3(s.spin))?;
+                }
+                Ok(())
+            }
             Command::Despawn(id) => write!(f, "despawn {id}"),
             Command::SetLaunch {
                 speed,

@@ -13,11 +13,18 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use crate::body::Mass;
+
 mod custom;
 mod mach_drag;
+mod thrust;
 
 pub use custom::{CustomForce, CustomForceError, ForceTerm, register, resolve};
-pub use mach_drag::{AirModel, DragCurve, DragSize, KG_M2_PER_LB_IN2, MachDrag, Wind};
+pub use mach_drag::{
+    AirModel, DragCurve, DragSize, KG_M2_PER_LB_IN2, LiftModel, MachDrag, NATHAN_DECAY_SPEED,
+    RAD_S_PER_RPM, SpinDecay, SpinLift, Wind,
+};
+pub use thrust::{Thrust, ThrustCurve, ThrustCurveError, ThrustDirection};
 
 /// Net force on one body, the only physics a step needs from a force description.
 ///
@@ -27,13 +34,15 @@ pub use mach_drag::{AirModel, DragCurve, DragSize, KG_M2_PER_LB_IN2, MachDrag, W
 pub trait ForceModel: Sync {
     /// Net force (N) on a body of mass `m` (kg) at position `p` (m) with velocity `v` (m/s).
     fn force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3;
-    /// [`ForceModel::force`] at time `t` (s, the world's clock): what the integrators call,
-    /// with each stage's own time. Only a game's own term ([`ForceTerm`]) reads the time; for
-    /// every other model this is `force`, and `t` compiles away.
+    /// [`ForceModel::force`] at time `t` (s, the world's clock) on a body of mass `w.m` launched
+    /// as `w.launch` says: what the integrators call, with each stage's own time. Only the
+    /// terms that need them read the time and the launch (a game's own term, [`ForceTerm`]; a
+    /// spin's lift; a motor's thrust); for every other model this is `force`, and `t` and the
+    /// launch compile away.
     #[inline(always)]
-    fn force_at(&self, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
+    fn force_at(&self, t: f64, p: DVec3, v: DVec3, w: Mass) -> DVec3 {
         let _ = t;
-        self.force(p, v, m)
+        self.force(p, v, w.m)
     }
     /// Whether [`ForceModel::force`] reads `v`. Velocity Verlet uses it to pick its variant.
     fn velocity_dependent(&self) -> bool;
@@ -43,9 +52,9 @@ pub trait ForceModel: Sync {
     fn nonlinear_force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3;
     /// [`ForceModel::nonlinear_force`] at time `t`, as [`ForceModel::force_at`] is `force`.
     #[inline(always)]
-    fn nonlinear_force_at(&self, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
+    fn nonlinear_force_at(&self, t: f64, p: DVec3, v: DVec3, w: Mass) -> DVec3 {
         let _ = t;
-        self.nonlinear_force(p, v, m)
+        self.nonlinear_force(p, v, w.m)
     }
     /// Whether any term is left to [`ForceModel::nonlinear_force`] (implicit midpoint picks its
     /// form by it). The fast-path models have none.
@@ -127,11 +136,13 @@ pub enum ForceKind {
     MachDrag,
     /// A game's own term ([`ForceTerm`]).
     Custom,
+    /// A motor's thrust, the body's mass falling as it burns.
+    Thrust,
 }
 
 impl ForceKind {
     /// Every kind, in evaluation order.
-    pub const ALL: [ForceKind; 8] = [
+    pub const ALL: [ForceKind; 9] = [
         ForceKind::Gravity,
         ForceKind::ConstantForce,
         ForceKind::LinearDrag,
@@ -140,6 +151,7 @@ impl ForceKind {
         ForceKind::PointMass,
         ForceKind::MachDrag,
         ForceKind::Custom,
+        ForceKind::Thrust,
     ];
 
     /// The name used in scene files and on the command line.
@@ -153,6 +165,7 @@ impl ForceKind {
             ForceKind::PointMass => "PointMass",
             ForceKind::MachDrag => "MachDrag",
             ForceKind::Custom => "Custom",
+            ForceKind::Thrust => "Thrust",
         }
     }
 
@@ -194,8 +207,11 @@ pub struct Forces {
     pub point_mass: Option<PointMass>,
     /// Drag against a Mach-dependent curve, in a standard or uniform atmosphere and the wind.
     pub mach_drag: Option<MachDrag>,
-    /// A game's own term, evaluated last ([`ForceTerm`]).
+    /// A game's own term ([`ForceTerm`]).
     pub custom: Option<CustomForce>,
+    /// A motor, added last; with it every force is evaluated at the mass the motor has left
+    /// ([`Thrust`] has how momentum and mass change together).
+    pub thrust: Option<Thrust>,
 }
 
 impl Forces {
@@ -210,6 +226,7 @@ impl Forces {
             ForceKind::PointMass => self.point_mass.is_some(),
             ForceKind::MachDrag => self.mach_drag.is_some(),
             ForceKind::Custom => self.custom.is_some(),
+            ForceKind::Thrust => self.thrust.is_some(),
         }
     }
 
@@ -229,6 +246,7 @@ impl Forces {
             ForceKind::PointMass => self.point_mass = None,
             ForceKind::MachDrag => self.mach_drag = None,
             ForceKind::Custom => self.custom = None,
+            ForceKind::Thrust => self.thrust = None,
         }
         self
     }
@@ -249,7 +267,8 @@ impl Forces {
             && self.spring.is_none()
             && self.point_mass.is_none()
             && self.mach_drag.is_none()
-            && self.custom.is_none();
+            && self.custom.is_none()
+            && self.thrust.is_none();
         only_constant.then(|| ConstantField {
             gravity: self.gravity.unwrap_or(DVec3::ZERO),
             force: self.constant.unwrap_or(DVec3::ZERO),
@@ -262,12 +281,15 @@ impl Forces {
     /// Every linear force set has one: gravity, constant force, linear drag and a spring with
     /// rest length 0 (any stiffness and damping), in any combination. So does a point mass
     /// alone (Kepler's problem). Refused, because `exact` evaluates the solution rather than
-    /// approximating it: quadratic drag, Mach drag and a game's own term; a spring with a rest length (its pull is
+    /// approximating it: quadratic drag, Mach drag, a game's own term and thrust; a spring with a rest length (its pull is
     /// not linear in the position); a point mass with any other term (named as the point mass).
     pub fn without_closed_form(&self) -> Option<ForceKind> {
         let alone = self.kinds().count() == 1;
         self.kinds().find(|k| match k {
-            ForceKind::QuadraticDrag | ForceKind::MachDrag | ForceKind::Custom => true,
+            ForceKind::QuadraticDrag
+            | ForceKind::MachDrag
+            | ForceKind::Custom
+            | ForceKind::Thrust => true,
             ForceKind::Spring => self.spring.is_some_and(|s| s.rest_length != 0.0),
             ForceKind::PointMass => !alone,
             ForceKind::Gravity | ForceKind::ConstantForce | ForceKind::LinearDrag => false,
@@ -310,17 +332,63 @@ impl Forces {
                 .as_ref()
                 .and_then(|d| d.wind)
                 .map(|w| 0.5 * m * ((v - w.at(p.z)).length_squared() - v.length_squared())),
-            ForceKind::LinearDrag | ForceKind::QuadraticDrag | ForceKind::Custom => None,
+            ForceKind::LinearDrag
+            | ForceKind::QuadraticDrag
+            | ForceKind::Custom
+            | ForceKind::Thrust => None,
         }
     }
 
-    /// `f` plus a game's own term at time `t`, if one is declared (it is always explicit, so
-    /// the full force and the explicit part both take it).
+    /// `f` plus the terms that read the time or the launch: a spun Mach drag's lift and spin
+    /// drag, and a game's own term, if declared (always explicit, so the full force and the
+    /// explicit part both take them). `f` holds the Mach drag already unless it is spun.
     #[inline(always)]
-    fn plus_custom(&self, f: DVec3, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
-        match &self.custom {
-            Some(c) => f + c.force(t, p, v, m),
-            None => f,
+    fn plus_timed(&self, f: DVec3, t: f64, p: DVec3, v: DVec3, w: Mass) -> DVec3 {
+        let mut f = f;
+        if let Some(d) = &self.mach_drag
+            && d.spin.is_some()
+        {
+            f += d.spun_force(t, p, v, w);
+        }
+        if let Some(c) = &self.custom {
+            f += c.force(t, p, v, w.m);
+        }
+        f
+    }
+
+    /// Whether a declared term may add mechanical energy (a game's own, a motor): then the
+    /// guard checks only that the state stays finite.
+    #[inline]
+    pub fn adds_energy(&self) -> bool {
+        self.custom.is_some() || self.thrust.is_some()
+    }
+
+    /// Whether a declared term reads the clock or a body's launch (a game's own, a spin, a
+    /// motor): a derivative of the state alone does not describe them.
+    #[inline]
+    pub fn timed(&self) -> bool {
+        self.custom.is_some() || self.reads_launch()
+    }
+
+    /// Whether any declared term reads a body's [`crate::body::Launch`] (a spin, a motor):
+    /// only then does the step fill it.
+    #[inline]
+    pub fn reads_launch(&self) -> bool {
+        self.thrust.is_some() || self.mach_drag.as_ref().is_some_and(|d| d.spin.is_some())
+    }
+
+    /// `part(t, w)`, the force on a body of mass `w.m`, or with a motor declared that force
+    /// evaluated at the mass `m(t)` the motor has left, thrust added, and scaled by
+    /// `w.m / m(t)` ([`Thrust`]: the step's momentum is `w.m V`).
+    #[inline(always)]
+    fn with_motor(&self, t: f64, v: DVec3, w: Mass, part: impl Fn(Mass) -> DVec3) -> DVec3 {
+        match &self.thrust {
+            None => part(w),
+            Some(motor) => {
+                let tau = t - w.launch.time;
+                let now = Mass::launched(motor.mass_at(tau, w.launch.mass), w.launch);
+                (part(now) + motor.force(tau, v)) * (w.m * now.inv)
+            }
         }
     }
 
@@ -332,7 +400,8 @@ impl Forces {
 }
 
 impl ForceModel for Forces {
-    /// Every term but a game's own, which needs the time ([`ForceModel::force_at`]).
+    /// Every term but those that need the time or the launch ([`ForceModel::force_at`]): a
+    /// game's own, a spun Mach drag (the whole term) and a motor.
     #[inline]
     fn force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3 {
         let mut f = DVec3::ZERO;
@@ -354,26 +423,38 @@ impl ForceModel for Forces {
         if let Some(pm) = self.point_mass {
             f += point_mass_force(&pm, p, m);
         }
-        if let Some(d) = &self.mach_drag {
+        if let Some(d) = &self.mach_drag
+            && d.spin.is_none()
+        {
             f += d.force(p, v, m);
         }
         f
     }
 
     #[inline]
-    fn force_at(&self, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
-        self.plus_custom(self.force(p, v, m), t, p, v, m)
+    fn force_at(&self, t: f64, p: DVec3, v: DVec3, w: Mass) -> DVec3 {
+        self.with_motor(t, v, w, |w| {
+            self.plus_timed(self.force(p, v, w.m), t, p, v, w)
+        })
     }
 
     #[inline]
-    fn nonlinear_force_at(&self, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
-        self.plus_custom(self.nonlinear_force(p, v, m), t, p, v, m)
+    fn nonlinear_force_at(&self, t: f64, p: DVec3, v: DVec3, w: Mass) -> DVec3 {
+        if self.thrust.is_some() {
+            // With a motor everything is explicit: the scaling is not linear in (p, v).
+            return self.force_at(t, p, v, w);
+        }
+        self.plus_timed(self.nonlinear_force(p, v, w.m), t, p, v, w)
     }
 
     fn velocity_dependent(&self) -> bool {
         self.linear_drag.is_some()
             || self.quadratic_drag.is_some()
             || self.mach_drag.is_some()
+            || self
+                .thrust
+                .as_ref()
+                .is_some_and(|t| matches!(t.direction, ThrustDirection::Velocity { .. }))
             || self
                 .custom
                 .as_ref()
@@ -388,6 +469,7 @@ impl ForceModel for Forces {
             || self.point_mass.is_some()
             || self.mach_drag.is_some()
             || self.custom.is_some()
+            || self.thrust.is_some()
     }
 
     #[inline]
@@ -397,6 +479,15 @@ impl ForceModel for Forces {
 
     #[inline]
     fn linear_part(&self, m: f64) -> LinearPart {
+        if self.thrust.is_some() {
+            // Everything is explicit with a motor ([`ForceModel::nonlinear_force_at`]).
+            return LinearPart {
+                a0: DVec3::ZERO,
+                kd: 0.0,
+                w2: 0.0,
+                anchor: DVec3::ZERO,
+            };
+        }
         let mut part = LinearPart {
             a0: self.uniform_accel(m),
             kd: self.drag_rate(m),
@@ -427,7 +518,9 @@ impl ForceModel for Forces {
         if let Some(pm) = self.point_mass {
             f += point_mass_force(&pm, p, m);
         }
-        if let Some(d) = &self.mach_drag {
+        if let Some(d) = &self.mach_drag
+            && d.spin.is_none()
+        {
             f += d.force(p, v, m);
         }
         f
@@ -453,7 +546,8 @@ impl ForceModel for Forces {
             || self.quadratic_drag.is_some()
             || self.spring.is_some()
             || self.mach_drag.is_some()
-            || self.custom.is_some();
+            || self.custom.is_some()
+            || self.thrust.is_some();
         self.point_mass.filter(|_| !others)
     }
 }

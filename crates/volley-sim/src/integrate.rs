@@ -12,7 +12,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-pub use crate::body::{BodyState, Mass};
+pub use crate::body::{BodyState, Launch, Mass};
 use crate::forces::{DragField, ForceModel, Forces};
 
 mod dopri;

@@ -14,8 +14,8 @@ use crate::contact::{Detection, Ground, Target, Wall};
 use crate::drag::Interpolation;
 use crate::exact::{AimError, Arc, aim};
 use crate::forces::{
-    AirModel, DragCurve, DragSize, ForceKind, Forces, KG_M2_PER_LB_IN2, MachDrag, PointMass,
-    Spring, Wind,
+    AirModel, DragCurve, DragSize, ForceKind, Forces, KG_M2_PER_LB_IN2, LiftModel, MachDrag,
+    PointMass, RAD_S_PER_RPM, SpinDecay, SpinLift, Spring, Thrust, ThrustDirection, Wind,
 };
 use crate::integrate::{DEFAULT_TOLERANCE, Integrator};
 
@@ -235,6 +235,8 @@ pub struct BodySpec {
     pub position: DVec3,
     /// Initial velocity (m/s), resolved from the scene's launch description.
     pub velocity: DVec3,
+    /// Angular velocity at launch (rad/s, world axes): read only by a spun Mach drag.
+    pub spin: DVec3,
 }
 
 /// The launcher the window's fire button and `Fire` commands use.
@@ -255,12 +257,45 @@ pub struct Launcher {
     /// Radius of a fired projectile (m).
     #[serde(default = "tenth")]
     pub radius: f64,
+    /// Backspin of a fired projectile (rpm): about the horizontal axis across the shot, the
+    /// spin that lifts a ball hit or thrown forwards.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub backspin: f64,
+    /// Sidespin of a fired projectile (rpm): about the vertical, positive counter-clockwise
+    /// seen from above, which curves the flight to the left of the shot.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub sidespin: f64,
 }
 
 impl Launcher {
     /// Launch velocity (m/s) from speed, elevation and azimuth.
     pub fn velocity(&self) -> DVec3 {
         angles_to_velocity(self.speed, self.elevation_deg, self.azimuth_deg)
+    }
+
+    /// Angular velocity (rad/s, world axes) of a projectile fired at `azimuth_deg`: the
+    /// backspin about `(sin az, -cos az, 0)`, the sidespin about +z.
+    pub fn spin_at(&self, azimuth_deg: f64) -> DVec3 {
+        let az = azimuth_deg.to_radians();
+        let rpm = crate::forces::RAD_S_PER_RPM;
+        DVec3::new(libm::sin(az), -libm::cos(az), 0.0) * (self.backspin * rpm)
+            + DVec3::Z * (self.sidespin * rpm)
+    }
+
+    /// The body a `Fire` spawns: the launcher's mass, size, muzzle, velocity and spin.
+    pub fn body(&self) -> BodySpec {
+        self.body_at(self.speed, self.elevation_deg, self.azimuth_deg)
+    }
+
+    /// [`Launcher::body`] at another speed and angles (a volley's spread).
+    pub fn body_at(&self, speed: f64, elevation_deg: f64, azimuth_deg: f64) -> BodySpec {
+        BodySpec {
+            mass: self.mass,
+            radius: self.radius,
+            position: self.position,
+            velocity: angles_to_velocity(speed, elevation_deg, azimuth_deg),
+            spin: self.spin_at(azimuth_deg),
+        }
     }
 }
 
@@ -298,6 +333,10 @@ impl Default for Guard {
             every: 1,
         }
     }
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 fn one() -> f64 {

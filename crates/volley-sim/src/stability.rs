@@ -30,7 +30,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::integrate::{FOREST_RUTH_C1, FOREST_RUTH_C2, Integrator};
-use crate::scene::{BodySpec, Scene};
+use crate::scene::Scene;
 use crate::world::World;
 
 mod growth;
@@ -197,12 +197,7 @@ pub fn check_world(world: &World) -> StabilityReport {
 pub fn check_at(scene: &Scene, dt: f64, substeps: u32, chosen: Integrator) -> StabilityReport {
     let substeps = substeps.max(1);
     let h = dt / f64::from(substeps);
-    let launcher = BodySpec {
-        mass: scene.launcher.mass,
-        radius: scene.launcher.radius,
-        position: scene.launcher.position,
-        velocity: scene.launcher.velocity(),
-    };
+    let launcher = scene.launcher.body();
     let bodies: Vec<Stiffness> = scene
         .bodies
         .iter()

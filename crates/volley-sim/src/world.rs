@@ -233,12 +233,7 @@ impl World {
                 let speed = l.speed + volley.speed_spread * self.state.rng.next_signed();
                 let el = l.elevation_deg + volley.angle_spread_deg * self.state.rng.next_signed();
                 let az = l.azimuth_deg + volley.angle_spread_deg * self.state.rng.next_signed();
-                self.spawn(&BodySpec {
-                    mass: l.mass,
-                    radius: l.radius,
-                    position: l.position,
-                    velocity: crate::scene::angles_to_velocity(speed.max(0.0), el, az),
-                });
+                self.spawn(&l.body_at(speed.max(0.0), el, az));
             }
         }
     }
@@ -247,9 +242,14 @@ impl World {
     pub fn spawn(&mut self, spec: &BodySpec) -> BodyId {
         let id = BodyId(self.state.next_id);
         self.state.next_id += 1;
+        let launch = crate::body::Launch {
+            time: self.time(),
+            mass: spec.mass,
+            spin: spec.spin,
+        };
         self.state
             .bodies
-            .push(id, spec.position, spec.velocity, spec.mass, spec.radius);
+            .push(id, spec.position, spec.velocity, spec.radius, launch);
         let i = self.state.bodies.len() - 1;
         self.state.bodies.energy_cap[i] = self.energy_cap_of(i);
         self.carry_valid = false;
@@ -417,10 +417,10 @@ impl World {
     /// Net force (N) on body `i` from the active terms, at its current state and time.
     pub fn force_on(&self, i: usize) -> DVec3 {
         use crate::forces::ForceModel;
-        let m = self.state.bodies.mass[i];
+        let w = self.state.bodies.mass_of(i);
         self.state
             .forces
-            .force_at(self.time(), self.state.bodies.p.get(i), self.velocity(i), m)
+            .force_at(self.time(), self.state.bodies.p.get(i), self.velocity(i), w)
     }
 
     /// Mechanical energy (J) of body `i` under the active terms.
@@ -471,7 +471,8 @@ impl World {
     }
 
     /// Puts `s` back, or says why it cannot belong to this world's scene (lengths that differ,
-    /// ids not increasing or not below `next_id`, a mass not > 0, a radius not >= 0, a force
+    /// ids not increasing or not below `next_id`, a mass not > 0, a radius not >= 0, a launch
+    /// not finite or its mass not > 0, a force
     /// term the scene does not declare, an integrator the forces refuse, a carried force
     /// without velocity Verlet). The divergence flag and the last tick's events are cleared.
     pub fn restore(&mut self, s: &State) -> Result<(), RestoreError> {
@@ -502,13 +503,27 @@ impl World {
                 radius: b.radius[i],
             });
         }
+        if let Some(i) = (0..n).find(|&i| {
+            let l = b.launch(i);
+            !(l.time.is_finite() && l.mass.is_finite() && l.mass > 0.0 && l.spin.is_finite())
+        }) {
+            return Err(RestoreError::Launch { body: b.id[i] });
+        }
         if s.forces != self.params.declared.filtered(|k| s.forces.has(k)) {
             return Err(RestoreError::Forces);
         }
         crate::scene::check_integrator(s.integrator, &s.forces)
             .map_err(RestoreError::Integrator)?;
         let l = &s.launcher;
-        let numbers = [l.speed, l.elevation_deg, l.azimuth_deg, l.mass, l.radius];
+        let numbers = [
+            l.speed,
+            l.elevation_deg,
+            l.azimuth_deg,
+            l.mass,
+            l.radius,
+            l.backspin,
+            l.sidespin,
+        ];
         let finite = numbers.iter().all(|x| x.is_finite()) && l.position.is_finite();
         if !(finite && l.speed >= 0.0 && l.mass > 0.0 && l.radius >= 0.0) {
             return Err(RestoreError::Launcher);
@@ -560,6 +575,11 @@ pub enum RestoreError {
         /// Its radius (m).
         radius: f64,
     },
+    /// A body's launch (time, mass, spin) is not finite, or its mass not > 0.
+    Launch {
+        /// The body.
+        body: BodyId,
+    },
     /// A force term is active that the scene does not declare (or with other values).
     Forces,
     /// The integrator is one the active forces refuse.
@@ -589,6 +609,10 @@ impl std::fmt::Display for RestoreError {
             RestoreError::Radius { body, radius } => {
                 write!(f, "body {body}: radius must be >= 0, got {radius}")
             }
+            RestoreError::Launch { body } => write!(
+                f,
+                "body {body}: launch time, mass and spin must be finite and the mass > 0"
+            ),
             RestoreError::Forces => {
                 f.write_str("active forces are not a subset of the scene's declared terms")
             }

@@ -264,6 +264,7 @@ impl std::str::FromStr for Command {
                     radius: 0.1,
                     position: DVec3::ZERO,
                     velocity: DVec3::ZERO,
+                    spin: DVec3::ZERO,
                 };
                 for (key, value) in pairs()? {
                     match key {
@@ -271,6 +272,7 @@ impl std::str::FromStr for Command {
                         "radius" => spec.radius = number("radius", value)?,
                         "position" => spec.position = vector("position", value)?,
                         "velocity" => spec.velocity = vector("velocity", value)?,
+                        "spin" => spec.spin = vector("spin", value)?,
                         _ => {
                             return Err(CommandParseError::UnknownSpawnKey(key.to_string()));
                         }

@@ -53,6 +53,14 @@ fn every_command_round_trips_through_its_script_form() {
             radius: 0.0,
             position: DVec3::new(10.0, 0.0, 2.0),
             velocity: DVec3::new(7.681, 0.0, 29.000_04),
+            spin: Default::default(),
+        }),
+        Command::Spawn(BodySpec {
+            mass: 0.145,
+            radius: 0.037,
+            position: DVec3::new(0.0, 0.0, 1.0),
+            velocity: DVec3::new(40.0, 0.0, 20.0),
+            spin: DVec3::new(0.0, -261.799_387_799_149_4, 0.1),
         }),
     ];
     for c in commands {
@@ -112,7 +120,7 @@ fn error_messages_are_pinned() {
         ),
         (
             apply(CommandError::SpawnState),
-            "spawn: position and velocity must be finite",
+            "spawn: position, velocity and spin must be finite",
         ),
         (parse("spawn mass"), "expected key=value, got `mass`"),
         (parse("despawn"), "despawn: expected a body id"),
@@ -130,7 +138,7 @@ fn error_messages_are_pinned() {
         (
             parse("force Antigravity on"),
             "force: unknown term `Antigravity`, expected one of Gravity, ConstantForce, \
-             LinearDrag, QuadraticDrag, Spring, PointMass, MachDrag, Custom",
+             LinearDrag, QuadraticDrag, Spring, PointMass, MachDrag, Custom, Thrust",
         ),
         (
             parse("force Gravity"),

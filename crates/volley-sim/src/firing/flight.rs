@@ -13,6 +13,10 @@ pub(super) fn flight_world(range: &Range, v0: DVec3, contacts: bool) -> World {
         radius: range.radius,
         position: range.from,
         velocity: v0,
+        spin: range
+            .scene
+            .launcher
+            .spin_at(libm::atan2(v0.y, v0.x).to_degrees()),
     }];
     scene.targets = vec![Target {
         radius: range.target.radius,

@@ -179,6 +179,79 @@ impl Wind {
     }
 }
 
+/// One revolution per minute in rad/s: spins are published in rpm.
+pub const RAD_S_PER_RPM: f64 = std::f64::consts::PI / 30.0;
+
+/// A lift coefficient against the spin parameter `S = r |omega| / |u|`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum LiftModel {
+    /// Alan Nathan's fit for a baseball, `C_L = 1.120 S / (0.583 + 2.333 S)`, the one his
+    /// trajectory calculator uses (baseball.physics.illinois.edu, "TrajectoryCalculator";
+    /// ported in pybaseball's `analysis/trajectories`).
+    Nathan,
+}
+
+impl LiftModel {
+    /// The lift coefficient at spin parameter `s`.
+    #[inline]
+    pub fn coefficient(self, s: f64) -> f64 {
+        match self {
+            LiftModel::Nathan => 1.120 * s / (0.583 + 2.333 * s),
+        }
+    }
+}
+
+/// How a spin decays from its launch value, keeping its axis.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum SpinDecay {
+    /// It does not.
+    None,
+    /// `omega = omega_0 exp(-age / tau)`, tau in s.
+    Time(f64),
+    /// Nathan's calculator's form, `omega = omega_0 exp(-age |u| / (tau v_ref))` with
+    /// `v_ref = 146.7 ft/s` (100 mph as the sheet converts it) and tau in s (30 in the sheet):
+    /// the decay rate grows with the air speed.
+    Nathan(f64),
+}
+
+/// 146.7 ft/s in m/s: the speed Nathan's spin decay is scaled to.
+pub const NATHAN_DECAY_SPEED: f64 = 146.7 * 0.3048;
+
+impl SpinDecay {
+    /// The factor `omega / omega_0` at `age` s after launch, moving through the air at `speed`.
+    #[inline]
+    pub fn factor(self, age: f64, speed: f64) -> f64 {
+        match self {
+            SpinDecay::None => 1.0,
+            SpinDecay::Time(tau) => libm::exp(-age / tau),
+            SpinDecay::Nathan(tau) => libm::exp(-age * speed / (tau * NATHAN_DECAY_SPEED)),
+        }
+    }
+}
+
+/// A spinning body's aerodynamics beside its drag: Magnus lift and the drag the spin adds, with
+/// the spin decaying from its launch value.
+///
+/// With `omega = omega_0 d(age, |u|)` (the spin keeps its axis; [`SpinDecay`] gives `d`) and
+/// `u` the velocity through the air:
+///
+/// ```text
+/// F_lift = (rho / 2) C_L(S) A |u| (omega_hat x u),   S = r |omega| / |u|,   A = pi r^2
+/// Cd     = Cd(M) + k |omega|                           (the spin drag, k per rad/s)
+/// ```
+///
+/// The lift is perpendicular to `u`, so it does no work in the air's frame. The body's size is
+/// its diameter (a spin needs `size: Diameter`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpinLift {
+    /// The lift coefficient.
+    pub lift: LiftModel,
+    /// How the spin decays.
+    pub decay: SpinDecay,
+    /// The drag coefficient added per rad/s of spin, k (s/rad).
+    pub drag_per_spin: f64,
+}
+
 /// Drag against a Mach-dependent curve (see the module doc for the formula and its source).
 #[derive(Clone, Debug, PartialEq)]
 pub struct MachDrag {
@@ -192,6 +265,8 @@ pub struct MachDrag {
     pub air: AirModel,
     /// The wind, if any.
     pub wind: Option<Wind>,
+    /// A spin's lift and drag, if the bodies spin.
+    pub spin: Option<SpinLift>,
 }
 
 impl MachDrag {
@@ -204,6 +279,41 @@ impl MachDrag {
         let speed = u.length();
         let cd = self.curve.table().cd_by(speed / sound, self.interpolation);
         -(self.size.half_area(m) * density * cd * speed) * u
+    }
+
+    /// The whole term with its spin ([`SpinLift`]) at time `t` on a body launched as
+    /// `w.launch` says: the drag with the spin's addition, plus the lift. Out of line, as
+    /// [`MachDrag::force`] is.
+    #[inline(never)]
+    pub fn spun_force(&self, t: f64, p: DVec3, v: DVec3, w: crate::body::Mass) -> DVec3 {
+        let u = v - self.wind_at(p.z);
+        let (density, sound) = self.air.at(p.z);
+        let speed = u.length();
+        let spin = self.spin.as_ref();
+        let decay = spin.map_or(0.0, |s| s.decay.factor(t - w.launch.time, speed));
+        let omega = w.launch.spin * decay;
+        let rate = omega.length();
+        let cd = self.curve.table().cd_by(speed / sound, self.interpolation)
+            + spin.map_or(0.0, |s| s.drag_per_spin * rate);
+        let drag = -(self.size.half_area(w.m) * density * cd * speed) * u;
+        let (Some(s), DragSize::Diameter { diameter, .. }) = (spin, self.size) else {
+            return drag;
+        };
+        if speed == 0.0 || rate == 0.0 {
+            return drag;
+        }
+        let c_l = s.lift.coefficient(0.5 * diameter * rate / speed);
+        let half_area = (std::f64::consts::PI / 8.0) * diameter * diameter;
+        drag + (half_area * density * c_l * speed / rate) * omega.cross(u)
+    }
+
+    /// A body's spin (rad/s) at time `t` moving at `v` at `p`: its launch spin, decayed since
+    /// its launch.
+    pub fn spin_at(&self, t: f64, p: DVec3, v: DVec3, launch: crate::body::Launch) -> DVec3 {
+        let speed = (v - self.wind_at(p.z)).length();
+        self.spin.map_or(DVec3::ZERO, |s| {
+            launch.spin * s.decay.factor(t - launch.time, speed)
+        })
     }
 
     /// The wind (m/s) at height `z`: zero without one.

@@ -54,7 +54,7 @@ impl<F: ForceModel> Dopri5<'_, F> {
         let v = mv * w.inv;
         Slope {
             p: v,
-            m: self.0.force_at(t, p, v, w.m),
+            m: self.0.force_at(t, p, v, w),
         }
     }
 }

@@ -24,7 +24,7 @@ impl<F: ForceModel> Scheme for ExplicitEuler<'_, F> {
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let v = s.mv * w.inv;
-        let f = self.0.force_at(t, s.p, v, w.m);
+        let f = self.0.force_at(t, s.p, v, w);
         let next = BodyState {
             p: s.p + h * v,
             mv: s.mv + h * f,
@@ -40,7 +40,7 @@ impl<F: ForceModel> Scheme for SemiImplicitEuler<'_, F> {
     const EVALS: u64 = 1;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
-        let f = self.0.force_at(t, s.p, s.mv * w.inv, w.m);
+        let f = self.0.force_at(t, s.p, s.mv * w.inv, w);
         let mv = s.mv + h * f;
         let next = BodyState {
             p: s.p + h * (mv * w.inv),
@@ -63,7 +63,7 @@ impl<F: ForceModel> Scheme for Verlet<'_, F> {
         let v_half = mv_half * w.inv;
         let p = s.p + h * v_half;
         // Position-only model: the velocity argument is not read.
-        let f1 = self.0.force_at(t + h, p, v_half, w.m);
+        let f1 = self.0.force_at(t + h, p, v_half, w);
         let next = BodyState {
             p,
             mv: mv_half + half * f1,
@@ -71,7 +71,7 @@ impl<F: ForceModel> Scheme for Verlet<'_, F> {
         (next, f1)
     }
     fn start_carry(&self, s: BodyState, w: Mass, t: f64) -> DVec3 {
-        self.0.force_at(t, s.p, s.mv * w.inv, w.m)
+        self.0.force_at(t, s.p, s.mv * w.inv, w)
     }
 }
 
@@ -80,13 +80,13 @@ impl<F: ForceModel> Scheme for VerletPredicted<'_, F> {
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let half = 0.5 * h;
-        let f0 = self.0.force_at(t, s.p, s.mv * w.inv, w.m);
+        let f0 = self.0.force_at(t, s.p, s.mv * w.inv, w);
         let mv_half = s.mv + half * f0;
         let p = s.p + h * (mv_half * w.inv);
         // Euler-predicted end velocity: its O(h^2) error enters the kick times h/2, so the local
         // error stays O(h^3) and the method keeps order 2 with drag.
         let v_pred = (mv_half + half * f0) * w.inv;
-        let f1 = self.0.force_at(t + h, p, v_pred, w.m);
+        let f1 = self.0.force_at(t + h, p, v_pred, w);
         let next = BodyState {
             p,
             mv: mv_half + half * f1,
@@ -104,11 +104,11 @@ impl<F: ForceModel> Scheme for Midpoint<'_, F> {
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let half = 0.5 * h;
         let v = s.mv * w.inv;
-        let f = self.0.force_at(t, s.p, v, w.m);
+        let f = self.0.force_at(t, s.p, v, w);
         let p_mid = s.p + half * v;
         let mv_mid = s.mv + half * f;
         let v_mid = mv_mid * w.inv;
-        let f_mid = self.0.force_at(t + half, p_mid, v_mid, w.m);
+        let f_mid = self.0.force_at(t + half, p_mid, v_mid, w);
         let next = BodyState {
             p: s.p + h * v_mid,
             mv: s.mv + h * f_mid,
@@ -127,13 +127,13 @@ impl<F: ForceModel> Scheme for Rk4<'_, F> {
         let half = 0.5 * h;
         let f = self.0;
         let k1p = s.mv * w.inv;
-        let k1m = f.force_at(t, s.p, k1p, w.m);
+        let k1m = f.force_at(t, s.p, k1p, w);
         let k2p = (s.mv + half * k1m) * w.inv;
-        let k2m = f.force_at(t + half, s.p + half * k1p, k2p, w.m);
+        let k2m = f.force_at(t + half, s.p + half * k1p, k2p, w);
         let k3p = (s.mv + half * k2m) * w.inv;
-        let k3m = f.force_at(t + half, s.p + half * k2p, k3p, w.m);
+        let k3m = f.force_at(t + half, s.p + half * k2p, k3p, w);
         let k4p = (s.mv + h * k3m) * w.inv;
-        let k4m = f.force_at(t + h, s.p + h * k3p, k4p, w.m);
+        let k4m = f.force_at(t + h, s.p + h * k3p, k4p, w);
         let sixth = h / 6.0;
         let next = BodyState {
             p: s.p + sixth * (k1p + 2.0 * k2p + 2.0 * k3p + k4p),
@@ -152,7 +152,7 @@ impl<F: ForceModel> Scheme for ImplicitEuler<'_, F> {
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let lin = self.0.linear_part(w.m);
         let v = s.mv * w.inv;
-        let a_nl = self.0.nonlinear_force_at(t, s.p, v, w.m) * w.inv;
+        let a_nl = self.0.nonlinear_force_at(t, s.p, v, w) * w.inv;
         let rhs = v + h * (lin.a0 + a_nl - lin.w2 * (s.p - lin.anchor));
         let v1 = rhs / (1.0 + h * lin.kd + h * h * lin.w2);
         let next = BodyState {
@@ -270,7 +270,7 @@ pub(super) fn generalized_verlet<F: ForceModel>(
     let half = 0.5 * h;
     let v_half = vt.solve_half_kick((s.mv + half * fp0) * w.inv, h);
     let p = s.p + h * v_half;
-    let fp1 = f.force_at(t_end, p, DVec3::ZERO, w.m);
+    let fp1 = f.force_at(t_end, p, DVec3::ZERO, w);
     let mv = w.m * v_half + half * (fp1 + w.m * vt.accel(v_half));
     (BodyState { p, mv }, fp1)
 }
@@ -287,7 +287,7 @@ impl<F: ForceModel> Scheme for ForestRuth<'_, F> {
         generalized_verlet(self.0, vt, s, w, (t + h, c1 * h), fp)
     }
     fn start_carry(&self, s: BodyState, w: Mass, t: f64) -> DVec3 {
-        self.0.force_at(t, s.p, DVec3::ZERO, w.m)
+        self.0.force_at(t, s.p, DVec3::ZERO, w)
     }
 }
 
@@ -334,9 +334,9 @@ impl<F: ForceModel> Scheme for ImplicitMidpointSplit<'_, F> {
         let half = 0.5 * h;
         let (pm, vm) = (
             s.p + half * v,
-            v + half * (f.force_at(t, s.p, v, w.m) * w.inv),
+            v + half * (f.force_at(t, s.p, v, w) * w.inv),
         );
-        let a_ex = lin.a0 + f.nonlinear_force_at(t + half, pm, vm, w.m) * w.inv;
+        let a_ex = lin.a0 + f.nonlinear_force_at(t + half, pm, vm, w) * w.inv;
         let v1 = midpoint_linear(&lin, v, s.p - lin.anchor, a_ex, h);
         let next = BodyState {
             p: s.p + half * (v + v1),

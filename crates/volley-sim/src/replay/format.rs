@@ -1,4 +1,4 @@
-//! Recording format version 2: the preamble, the frame, and each record's payload.
+//! Recording format version 3: the preamble, the frame, and each record's payload.
 //!
 //! ```text
 //! file      = preamble frame*
@@ -31,7 +31,8 @@
 //! far to the file: a recording cut short keeps every tick flushed before the cut.
 //!
 //! Version 1 (never released outside this repository) had one 16-byte hash record per tick;
-//! this build refuses it as another format version.
+//! version 2 had an 8-bit force mask (8 kinds), no launcher spin and no launch columns in its
+//! keyframes. This build refuses both as other format versions.
 
 use std::io::{self, Write};
 
@@ -45,7 +46,7 @@ use crate::world::{BodyId, Divergence, DivergenceCause};
 /// mode transfer that rewrites bytes is caught at once).
 pub const MAGIC: [u8; 8] = *b"\x89VOLLEY\n";
 /// The format version this build writes and the only one it reads.
-pub const FORMAT_VERSION: u32 = 2;
+pub const FORMAT_VERSION: u32 = 3;
 /// Bytes before the first frame: magic and version.
 pub const PREAMBLE_LEN: usize = 12;
 /// Bytes of a frame head: kind, length, head check.
@@ -377,7 +378,7 @@ pub enum DecodeError {
     /// 1.
     MaskOrCarry {
         /// The force mask.
-        mask: u8,
+        mask: u16,
         /// The carry flag.
         carry: u8,
     },
@@ -470,6 +471,11 @@ impl Words {
         self.len += 1;
         self
     }
+    pub(crate) fn u16(&mut self, x: u16) -> &mut Self {
+        self.buf[self.len..self.len + 2].copy_from_slice(&x.to_le_bytes());
+        self.len += 2;
+        self
+    }
     pub(crate) fn u64(&mut self, x: u64) -> &mut Self {
         self.buf[self.len..self.len + 8].copy_from_slice(&x.to_le_bytes());
         self.len += 8;
@@ -503,6 +509,13 @@ impl<'a> Reader<'a> {
 
     pub(crate) fn u8(&mut self) -> Result<u8, DecodeError> {
         Ok(self.take(1)?[0])
+    }
+
+    pub(crate) fn u16(&mut self) -> Result<u16, DecodeError> {
+        let b = self.take(2)?;
+        Ok(u16::from_le_bytes(
+            b.try_into().expect("take(2) gives 2 bytes"),
+        ))
     }
 
     pub(crate) fn u64(&mut self) -> Result<u64, DecodeError> {

@@ -14,7 +14,7 @@ use super::format::{
 };
 
 /// Bytes of a keyframe before its body arrays.
-pub const KEYFRAME_FIXED: usize = 3 * 8 + 3 + 8 * 8 + 8 + 8;
+pub const KEYFRAME_FIXED: usize = 3 * 8 + 4 + 10 * 8 + 8 + 8;
 
 /// Bytes per body in a keyframe: the id and one float per column ([`COLUMNS`]), plus 3 with a
 /// carried force.
@@ -31,9 +31,10 @@ pub fn keyframe_len(n: usize, carry: bool) -> Option<u32> {
 
 /// Writes a keyframe frame, streaming the body arrays through the CRC: no allocation.
 ///
-/// Payload: `tick next_id rng:u64  integrator forces_mask has_carry:u8  launcher (position xyz,
-/// speed, elevation, azimuth, mass, radius):8 f64  force_evals n:u64`, then arrays of n:
-/// ids, p.x p.y p.z, mV.x mV.y mV.z, mass, radius, energy_cap (and carry x y z if has_carry).
+/// Payload: `tick next_id rng:u64  integrator:u8 forces_mask:u16 has_carry:u8  launcher
+/// (position xyz, speed, elevation, azimuth, mass, radius, backspin, sidespin):10 f64
+/// force_evals n:u64`, then arrays of n: ids, then every column of [`COLUMNS`] in its order
+/// (p, mV, mass, radius, energy_cap, launch time and mass, spin), and carry x y z if has_carry.
 pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
     let carry = !s.carry.is_empty();
     let n = s.bodies.id.len();
@@ -50,12 +51,12 @@ pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
         .iter()
         .enumerate()
         .filter(|(_, k)| s.forces.has(**k))
-        .fold(0u8, |m, (_, k)| m | (1 << (*k as u8)));
+        .fold(0u16, |m, (_, k)| m | (1 << (*k as u16)));
     let l = &s.launcher;
     fixed.u64(s.tick).u64(s.next_id).u64(s.rng.0);
     fixed
         .u8(integrator.unwrap_or(0) as u8)
-        .u8(mask)
+        .u16(mask)
         .u8(carry as u8);
     for x in [
         l.position.x,
@@ -67,6 +68,7 @@ pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
         fixed.f64(x);
     }
     fixed.f64(l.azimuth_deg).f64(l.mass).f64(l.radius);
+    fixed.f64(l.backspin).f64(l.sidespin);
     fixed.u64(s.force_evals).u64(n as u64);
     w.put(fixed.bytes())?;
     w.words(s.bodies.id.iter().map(|id| id.0))?;
@@ -92,14 +94,14 @@ pub fn decode_keyframe(
 ) -> Result<(), DecodeError> {
     let mut r = Reader::new(payload);
     (s.tick, s.next_id, s.rng) = (r.u64()?, r.u64()?, SplitMix64(r.u64()?));
-    let (integrator, mask, carry) = (r.u8()?, r.u8()?, r.u8()?);
+    let (integrator, mask, carry) = (r.u8()?, r.u16()?, r.u8()?);
     s.integrator = *Integrator::ALL
         .get(usize::from(integrator))
         .ok_or(DecodeError::IntegratorTag(integrator))?;
-    if u16::from(mask) >> ForceKind::ALL.len() != 0 || carry > 1 {
+    if mask >> ForceKind::ALL.len() != 0 || carry > 1 {
         return Err(DecodeError::MaskOrCarry { mask, carry });
     }
-    let active = |k: ForceKind| mask & (1 << (k as u8)) != 0;
+    let active = |k: ForceKind| mask & (1 << (k as u16)) != 0;
     if let Some(k) = ForceKind::ALL
         .into_iter()
         .find(|&k| active(k) && !declared.has(k))
@@ -107,7 +109,7 @@ pub fn decode_keyframe(
         return Err(DecodeError::UndeclaredForce(k));
     }
     s.forces = declared.filtered(active);
-    let mut f = [0.0; 8];
+    let mut f = [0.0; 10];
     for x in &mut f {
         *x = r.f64()?;
     }
@@ -118,6 +120,8 @@ pub fn decode_keyframe(
         azimuth_deg: f[5],
         mass: f[6],
         radius: f[7],
+        backspin: f[8],
+        sidespin: f[9],
     };
     s.force_evals = r.u64()?;
     let n = r.u64()?;

@@ -41,6 +41,7 @@ impl Scene {
     ///         radius: 0.037,
     ///         position: DVec3::new(0.0, 0.0, 1.8),
     ///         velocity: DVec3::new(30.0, 0.0, 10.0),
+    ///         spin: DVec3::ZERO,
     ///     })
     ///     .build()?;
     /// assert_eq!(scene.bodies.len(), 1);

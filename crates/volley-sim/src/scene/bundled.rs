@@ -7,6 +7,10 @@ use super::{Scene, SceneError, parse};
 /// order of their paths under `assets/scenes/`.
 pub const BUNDLED: &[(&str, &str)] = &[
     (
+        "baseball",
+        include_str!("../../../../assets/scenes/baseball.ron"),
+    ),
+    (
         "bench/drag",
         include_str!("../../../../assets/scenes/bench/drag.ron"),
     ),
@@ -78,6 +82,10 @@ pub const BUNDLED: &[(&str, &str)] = &[
     (
         "hard/tunnelling",
         include_str!("../../../../assets/scenes/hard/tunnelling.ron"),
+    ),
+    (
+        "model_rocket",
+        include_str!("../../../../assets/scenes/model_rocket.ron"),
     ),
     ("orbit", include_str!("../../../../assets/scenes/orbit.ron")),
     ("rifle", include_str!("../../../../assets/scenes/rifle.ron")),

@@ -100,6 +100,17 @@ pub enum ValueProblem {
     DragSize,
     /// A custom force term this program has not registered.
     Custom(crate::forces::CustomForceError),
+    /// A thrust curve that is not one.
+    ThrustCurve(crate::forces::ThrustCurveError),
+    /// A spin on a Mach drag sized by a ballistic coefficient (the lift needs the diameter).
+    SpinNeedsDiameter,
+    /// A body whose mass at launch is not more than its motor's propellant.
+    Propellant {
+        /// The body's mass (kg).
+        mass: f64,
+        /// The motor's propellant (kg).
+        propellant: f64,
+    },
 }
 
 impl std::fmt::Display for ValueProblem {
@@ -152,6 +163,15 @@ impl std::fmt::Display for ValueProblem {
             ValueProblem::Integrator(e) => write!(f, "{e}"),
             ValueProblem::DragTable(e) => write!(f, "{e}"),
             ValueProblem::Custom(e) => write!(f, "{e}"),
+            ValueProblem::ThrustCurve(e) => write!(f, "{e}"),
+            ValueProblem::SpinNeedsDiameter => f.write_str(
+                "a spin's lift needs the body's `diameter` (m), not a ballistic coefficient",
+            ),
+            ValueProblem::Propellant { mass, propellant } => write!(
+                f,
+                "expected a mass at launch above the motor's {propellant} kg of propellant, \
+                 got {mass} kg"
+            ),
             ValueProblem::DragSize => f.write_str(
                 "expected either `bc` (lb/in^2) or `diameter` (m) with an optional \
                  `form_factor`, not both or neither",

@@ -68,6 +68,23 @@ impl Scene {
                 form_factor: r.form_factor,
                 air: r.air,
                 wind: r.wind,
+                spin: r.spin,
+            });
+        }
+        if let Some(t) = &f.thrust {
+            forces.push(ForceTerm::Thrust {
+                curve: t.curve.points().to_vec(),
+                propellant: t.propellant,
+                direction: match t.direction {
+                    ThrustDirection::Fixed(d) => RawThrustDirection::Fixed(d),
+                    ThrustDirection::Velocity {
+                        along,
+                        rail_exit_speed,
+                    } => RawThrustDirection::Velocity {
+                        along,
+                        rail_exit_speed,
+                    },
+                },
             });
         }
         let raw = RawScene {
@@ -92,6 +109,7 @@ impl Scene {
                     radius: b.radius,
                     position: b.position,
                     launch: Launch::Velocity(b.velocity),
+                    spin: b.spin,
                 })
                 .collect(),
             launcher: Some(self.launcher),
@@ -141,11 +159,58 @@ pub(super) enum ForceTerm {
         air: RawAir,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         wind: Option<RawWind>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        spin: Option<RawSpin>,
     },
     Custom {
         name: String,
         version: u32,
     },
+    Thrust {
+        curve: Vec<(f64, f64)>,
+        #[serde(default)]
+        propellant: f64,
+        #[serde(default = "straight_up")]
+        direction: RawThrustDirection,
+    },
+}
+
+/// A motor's direction as written: `Fixed((x, y, z))`, or `Velocity(along: (x, y, z),
+/// rail_exit_speed: m/s)` (along the rail until that speed, then along the velocity); vectors
+/// of any length but zero.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
+pub(super) enum RawThrustDirection {
+    Fixed(DVec3),
+    Velocity {
+        along: DVec3,
+        #[serde(default)]
+        rail_exit_speed: f64,
+    },
+}
+
+fn straight_up() -> RawThrustDirection {
+    RawThrustDirection::Fixed(DVec3::Z)
+}
+
+/// A Mach drag's spin as written: the lift model, the decay (`None`, `Time(tau)`,
+/// `Nathan(tau)`, tau in s) and the drag coefficient added per 1000 rpm.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawSpin {
+    #[serde(default = "nathan")]
+    pub(super) lift: LiftModel,
+    #[serde(default = "no_decay")]
+    pub(super) decay: SpinDecay,
+    #[serde(default)]
+    pub(super) drag_per_1000_rpm: f64,
+}
+
+fn nathan() -> LiftModel {
+    LiftModel::Nathan
+}
+
+fn no_decay() -> SpinDecay {
+    SpinDecay::None
 }
 
 /// A Mach drag term's fields as written (the `ForceTerm::MachDrag` variant's): the curve, the
@@ -159,6 +224,7 @@ pub(super) struct RawMachDrag {
     pub(super) form_factor: Option<f64>,
     pub(super) air: RawAir,
     pub(super) wind: Option<RawWind>,
+    pub(super) spin: Option<RawSpin>,
 }
 
 /// A drag curve as written: a standard one by name, or (Mach, Cd) points.
@@ -247,6 +313,11 @@ impl RawMachDrag {
             reference_height: w.reference_height,
             exponent: w.exponent,
         });
+        let spin = d.spin.map(|s| RawSpin {
+            lift: s.lift,
+            decay: s.decay,
+            drag_per_1000_rpm: s.drag_per_spin * (1000.0 * RAD_S_PER_RPM),
+        });
         RawMachDrag {
             curve,
             interpolation: d.interpolation,
@@ -255,6 +326,7 @@ impl RawMachDrag {
             form_factor,
             air,
             wind,
+            spin,
         }
     }
 }
@@ -270,6 +342,7 @@ impl ForceTerm {
             ForceTerm::PointMass { .. } => ForceKind::PointMass,
             ForceTerm::MachDrag { .. } => ForceKind::MachDrag,
             ForceTerm::Custom { .. } => ForceKind::Custom,
+            ForceTerm::Thrust { .. } => ForceKind::Thrust,
         }
     }
 }
@@ -300,6 +373,12 @@ pub(super) struct RawBody {
     pub(super) position: DVec3,
     #[serde(default = "at_rest")]
     pub(super) launch: Launch,
+    #[serde(default, skip_serializing_if = "is_zero3")]
+    pub(super) spin: DVec3,
+}
+
+fn is_zero3(v: &DVec3) -> bool {
+    *v == DVec3::ZERO
 }
 
 pub(super) fn at_rest() -> Launch {

@@ -333,3 +333,166 @@ fn exact_and_forest_ruth_refuse_mach_drag_and_say_why() {
         parse(&mach_scene(term, i), "x.ron", "x").unwrap();
     }
 }
+
+/// A scene with a spun ball and a motor (the C6's first points), written as `extra` changes.
+fn spin_thrust_scene(spin: &str, thrust: &str, mass: f64) -> String {
+    format!(
+        "Scene(dt: 0.01, integrator: Rk4, forces: [Gravity((0, 0, -9.81)),
+           MachDrag(curve: Table([(0, 0.3), (1, 0.3)]), diameter: 0.074{spin}){thrust}],
+           bodies: [(mass: {mass:?}, position: (0, 0, 1), launch: Velocity((40, 0, 10)),
+                     spin: (0, -260, 0))],
+           launcher: (position: (0, 0, 1), speed: 40, elevation_deg: 10, azimuth_deg: 30,
+                      mass: {mass:?}, radius: 0.037, backspin: 2000, sidespin: -500))"
+    )
+}
+
+const C6_START: &str = ", Thrust(curve: [(0, 0), (0.031, 0.946), (0.092, 4.826), (1.86, 0)], \
+                        propellant: 0.0108, direction: Velocity(along: (0, 0, 1), \
+                        rail_exit_speed: 12))";
+
+#[test]
+fn spin_and_thrust_terms_parse_and_write_back_to_the_same_scene() {
+    for (spin, thrust) in [
+        (
+            ", spin: (lift: Nathan, decay: Nathan(30), drag_per_1000_rpm: 0.0292)",
+            "",
+        ),
+        (", spin: (decay: Time(25))", C6_START),
+        (
+            "",
+            ", Thrust(curve: [(0.1, 3), (0.5, 0)], direction: Fixed((1, 0, 1)))",
+        ),
+    ] {
+        let text = spin_thrust_scene(spin, thrust, 0.057);
+        let scene = parse(&text, "x.ron", "x").unwrap();
+        let again = parse(&scene.to_ron(), "saved.ron", "x").unwrap();
+        assert_eq!(again.forces, scene.forces, "{text}\n{}", scene.to_ron());
+        assert_eq!(again.bodies, scene.bodies);
+        assert_eq!(again.launcher, scene.launcher);
+    }
+    // A fixed direction is kept as a unit vector.
+    let scene = parse(
+        &spin_thrust_scene(
+            "",
+            ", Thrust(curve: [(0, 3), (1, 0)], direction: Fixed((3, 0, 4)))",
+            0.1,
+        ),
+        "x.ron",
+        "x",
+    )
+    .unwrap();
+    let crate::forces::ThrustDirection::Fixed(d) = scene.forces.thrust.unwrap().direction else {
+        panic!("a fixed direction");
+    };
+    assert!(
+        (d - DVec3::new(0.6, 0.0, 0.8)).length() <= 2.0 * f64::EPSILON,
+        "{d}"
+    );
+}
+
+#[test]
+fn bad_spin_and_thrust_values_name_the_field() {
+    let spun = ", spin: (decay: Time(30))";
+    for (spin, thrust, mass, field, says) in [
+        (
+            ", spin: (decay: Time(0))",
+            "",
+            0.1,
+            "forces[1].spin.decay",
+            "> 0",
+        ),
+        (
+            ", spin: (drag_per_1000_rpm: -1)",
+            "",
+            0.1,
+            "forces[1].spin.drag_per_1000_rpm",
+            ">= 0",
+        ),
+        (
+            spun,
+            ", Thrust(curve: [(0, 1), (0.5, 2), (0.5, 0)])",
+            0.1,
+            "forces[2].curve",
+            "point 2: times must increase",
+        ),
+        (
+            spun,
+            ", Thrust(curve: [(-0.1, 1), (0.5, 0)])",
+            0.1,
+            "forces[2].curve",
+            "point 0: time must be",
+        ),
+        (
+            spun,
+            ", Thrust(curve: [(0, 1), (0.5, -2), (1, 0)])",
+            0.1,
+            "forces[2].curve",
+            "point 1: thrust",
+        ),
+        (
+            spun,
+            ", Thrust(curve: [(0, 1), (0.5, 2)])",
+            0.1,
+            "forces[2].curve",
+            "burnout",
+        ),
+        (
+            spun,
+            ", Thrust(curve: [(0, 1)])",
+            0.1,
+            "forces[2].curve",
+            "at least two",
+        ),
+        (
+            spun,
+            ", Thrust(curve: [(0, 1), (1, 0)], propellant: -1)",
+            0.1,
+            "forces[2].propellant",
+            ">= 0",
+        ),
+        (
+            spun,
+            ", Thrust(curve: [(0, 1), (1, 0)], direction: Fixed((0, 0, 0)))",
+            0.1,
+            "forces[2].direction",
+            "zero",
+        ),
+        (
+            spun,
+            C6_START,
+            0.01,
+            "bodies[0].mass",
+            "0.0108 kg of propellant",
+        ),
+    ] {
+        let err = parse(&spin_thrust_scene(spin, thrust, mass), "x.ron", "x").unwrap_err();
+        assert_eq!(err.field.as_deref(), Some(field), "{thrust}: {err}");
+        assert!(err.to_string().contains(says), "{thrust}: {err}");
+        assert!(!err.to_string().contains('\n'), "one line: {err}");
+    }
+    // A spin's lift needs a diameter, not a ballistic coefficient.
+    let text = "Scene(dt: 0.01, integrator: Rk4, forces: [MachDrag(curve: G7, bc: 0.2, spin: ())])";
+    let err = parse(text, "x.ron", "x").unwrap_err();
+    assert_eq!(err.field.as_deref(), Some("forces[0].spin"), "{err}");
+    assert!(err.to_string().contains("diameter"), "{err}");
+}
+
+#[test]
+fn exact_and_forest_ruth_refuse_thrust_and_say_why() {
+    let text = |integrator: &str| {
+        spin_thrust_scene("", C6_START, 0.057)
+            .replace("integrator: Rk4", &format!("integrator: {integrator}"))
+    };
+    let err = parse(&text("Exact"), "x.ron", "x").unwrap_err();
+    assert!(err.to_string().contains("has none"), "{err}");
+    let err = parse(&text("ForestRuth"), "x.ron", "x").unwrap_err();
+    assert!(err.to_string().contains("force term"), "{err}");
+    for i in [
+        "ImplicitEuler",
+        "ImplicitMidpoint",
+        "Dopri5",
+        "VelocityVerlet",
+    ] {
+        parse(&text(i), "x.ron", "x").unwrap();
+    }
+}

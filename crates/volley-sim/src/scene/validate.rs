@@ -163,6 +163,9 @@ pub(super) fn validate(
         Some(l) => validate_launcher(l)?,
         None => default_launcher(bodies.first()),
     };
+    if let Some(t) = &forces.thrust {
+        check_propellant("launcher.mass", launcher.mass, t.propellant)?;
+    }
     if let Some(v) = raw.volley {
         if v.count > MAX_VOLLEY {
             return Err(invalid("volley.count", ValueProblem::VolleyCount(v.count)));
@@ -208,6 +211,9 @@ pub fn check_integrator(integrator: Integrator, forces: &Forces) -> Result<(), I
             Some(kind) => Err(IntegratorError::NoClosedForm(kind)),
             None => Ok(()),
         },
+        Integrator::ForestRuth if forces.thrust.is_some() => {
+            Err(IntegratorError::NoVelocitySolve(ForceKind::Thrust))
+        }
         Integrator::ForestRuth if forces.mach_drag.is_some() => {
             Err(IntegratorError::NoVelocitySolve(ForceKind::MachDrag))
         }
@@ -262,6 +268,7 @@ pub(super) fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, InvalidValu
                 form_factor,
                 air,
                 wind,
+                spin,
             } => {
                 let raw = RawMachDrag {
                     curve,
@@ -271,6 +278,7 @@ pub(super) fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, InvalidValu
                     form_factor,
                     air,
                     wind,
+                    spin,
                 };
                 forces.mach_drag = Some(validate_mach_drag(&field, &raw)?);
             }
@@ -279,6 +287,32 @@ pub(super) fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, InvalidValu
                     crate::forces::resolve(&name, version)
                         .map_err(|e| invalid(field, ValueProblem::Custom(e)))?,
                 );
+            }
+            ForceTerm::Thrust {
+                curve,
+                propellant,
+                direction,
+            } => {
+                let curve = crate::forces::ThrustCurve::new(curve)
+                    .map_err(|e| invalid(format!("{field}.curve"), ValueProblem::ThrustCurve(e)))?;
+                let unit = |d: DVec3| unit_vector(&format!("{field}.direction"), d);
+                forces.thrust = Some(Thrust {
+                    curve: std::sync::Arc::new(curve),
+                    propellant: non_negative(&format!("{field}.propellant"), propellant)?,
+                    direction: match direction {
+                        RawThrustDirection::Fixed(d) => ThrustDirection::Fixed(unit(d)?),
+                        RawThrustDirection::Velocity {
+                            along,
+                            rail_exit_speed,
+                        } => ThrustDirection::Velocity {
+                            along: unit(along)?,
+                            rail_exit_speed: non_negative(
+                                &format!("{field}.direction.rail_exit_speed"),
+                                rail_exit_speed,
+                            )?,
+                        },
+                    },
+                });
             }
         }
     }
@@ -344,27 +378,58 @@ fn validate_mach_drag(field: &str, raw: &RawMachDrag) -> Result<MachDrag, Invali
             })
         })
         .transpose()?;
+    let spin = raw
+        .spin
+        .map(|s| {
+            if !matches!(size, DragSize::Diameter { .. }) {
+                return Err(invalid(
+                    format!("{field}.spin"),
+                    ValueProblem::SpinNeedsDiameter,
+                ));
+            }
+            let tau = format!("{field}.spin.decay");
+            let decay = match s.decay {
+                SpinDecay::None => SpinDecay::None,
+                SpinDecay::Time(t) => SpinDecay::Time(positive(&tau, t)?),
+                SpinDecay::Nathan(t) => SpinDecay::Nathan(positive(&tau, t)?),
+            };
+            let per_krpm = non_negative(
+                &format!("{field}.spin.drag_per_1000_rpm"),
+                s.drag_per_1000_rpm,
+            )?;
+            Ok(SpinLift {
+                lift: s.lift,
+                decay,
+                drag_per_spin: per_krpm / (1000.0 * RAD_S_PER_RPM),
+            })
+        })
+        .transpose()?;
     Ok(MachDrag {
         curve,
         interpolation: raw.interpolation,
         size,
         air,
         wind,
+        spin,
     })
+}
+
+/// `v` scaled to unit length, refusing a zero or non-finite vector. A vector already of unit
+/// length to rounding is kept as written: normalising it again could move its last bit, and a
+/// saved setup (which writes the vector used) would then step to other bits than the scene it
+/// was saved from.
+fn unit_vector(field: &str, v: DVec3) -> Result<DVec3, InvalidValue> {
+    let v = finite3(field, v)?;
+    if (v.length_squared() - 1.0).abs() <= 8.0 * f64::EPSILON {
+        return Ok(v);
+    }
+    v.try_normalize()
+        .ok_or_else(|| invalid(field, ValueProblem::ZeroVector))
 }
 
 pub(super) fn validate_wall(i: usize, w: &Wall) -> Result<Wall, InvalidValue> {
     finite3(&format!("walls[{i}].point"), w.point)?;
-    let n = finite3(&format!("walls[{i}].normal"), w.normal)?;
-    // A normal already of unit length to rounding is kept as written: normalising it again
-    // could move its last bit, and a saved setup (which writes the normal used) would then step
-    // to other bits than the scene it was saved from.
-    let unit = if (n.length_squared() - 1.0).abs() <= 8.0 * f64::EPSILON {
-        n
-    } else {
-        n.try_normalize()
-            .ok_or_else(|| invalid(format!("walls[{i}].normal"), ValueProblem::ZeroVector))?
-    };
+    let unit = unit_vector(&format!("walls[{i}].normal"), w.normal)?;
     positive(&format!("walls[{i}].thickness"), w.thickness)?;
     unit_interval(&format!("walls[{i}].restitution"), w.restitution)?;
     Ok(Wall { normal: unit, ..*w })
@@ -406,12 +471,33 @@ pub(super) fn validate_body(
             }
         }
     };
+    let spin = finite3(&at("spin"), b.spin)?;
+    if let Some(t) = &forces.thrust {
+        check_propellant(&at("mass"), mass, t.propellant)?;
+    }
     Ok(BodySpec {
         mass,
         radius,
         position,
         velocity,
+        spin,
     })
+}
+
+/// A body's mass at launch must exceed the motor's propellant: what is left at burnout is > 0.
+pub(crate) fn check_propellant(
+    field: &str,
+    mass: f64,
+    propellant: f64,
+) -> Result<(), InvalidValue> {
+    if mass > propellant {
+        Ok(())
+    } else {
+        Err(invalid(
+            field,
+            ValueProblem::Propellant { mass, propellant },
+        ))
+    }
 }
 
 pub(super) fn validate_launcher(l: Launcher) -> Result<Launcher, InvalidValue> {
@@ -421,6 +507,8 @@ pub(super) fn validate_launcher(l: Launcher) -> Result<Launcher, InvalidValue> {
     finite("launcher.azimuth_deg", l.azimuth_deg)?;
     positive("launcher.mass", l.mass)?;
     non_negative("launcher.radius", l.radius)?;
+    finite("launcher.backspin", l.backspin)?;
+    finite("launcher.sidespin", l.sidespin)?;
     Ok(l)
 }
 
@@ -438,6 +526,8 @@ pub(super) fn default_launcher(first: Option<&BodySpec>) -> Launcher {
                 azimuth_deg: libm::atan2(v.y, v.x).to_degrees(),
                 mass: b.mass,
                 radius: b.radius,
+                backspin: 0.0,
+                sidespin: 0.0,
             }
         }
         None => Launcher {
@@ -447,6 +537,8 @@ pub(super) fn default_launcher(first: Option<&BodySpec>) -> Launcher {
             azimuth_deg: 0.0,
             mass: 1.0,
             radius: 0.1,
+            backspin: 0.0,
+            sidespin: 0.0,
         },
     }
 }

@@ -42,24 +42,19 @@ impl World {
             rest_speed: 0.0,
         };
         let b = &mut self.state.bodies;
-        let fixed = Fixed {
-            ids: &b.id,
-            mass: &b.mass,
-            inv_mass: &b.inv_mass,
-            radius: &b.radius,
-        };
-        let chunk = fixed.chunk(&mut b.p, &mut b.mv, &mut self.state.carry, carries);
+        let (fixed, p, mv) = Fixed::of(b, &self.state.forces);
+        let chunk = fixed.chunk(p, mv, &mut self.state.carry, carries);
         let saved_chunk = fixed.chunk(&mut saved.p, &mut saved.mv, &mut saved.carry, carries);
         // The guard's test, on the model `guard_energy` uses, so it trips exactly where it would.
-        let (caps, forces) = (&b.energy_cap[..], &self.state.forces);
+        let (caps, forces) = (fixed.energy_cap, &self.state.forces);
         let field = forces.constant_field();
         let over_cap = move |l: &Chunk| match &field {
             Some(field) => chunk_over_cap(l, field, caps),
             None => chunk_over_cap(l, forces, caps),
         };
         let guard = Guard {
-            // Off with a game's own term, as in `guard_energy`.
-            every: if self.state.forces.custom.is_some() {
+            // Off where a term may add energy, as in `guard_energy`.
+            every: if self.state.forces.adds_energy() {
                 0
             } else {
                 u64::from(self.params.guard.every)

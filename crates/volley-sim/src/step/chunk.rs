@@ -6,6 +6,10 @@
 
 use crate::contact::{Event, StepContext};
 use crate::integrate::Scheme;
+use glam::DVec3;
+
+use crate::body::{Bodies, Launch, Mass};
+use crate::forces::Forces;
 use crate::world::{BodyId, Vec3s, World};
 
 use super::PARALLEL_MIN_CHUNK;
@@ -55,6 +59,64 @@ pub(super) struct Chunk<'a> {
     pub(super) mass: &'a [f64],
     pub(super) inv_mass: &'a [f64],
     pub(super) radius: &'a [f64],
+    pub(super) launch: Launches<'a>,
+}
+
+/// The launch columns ([`crate::body::Launch`]): all five empty unless a declared term reads
+/// them ([`crate::Forces::reads_launch`]), so the loop fills a body's launch only then.
+#[derive(Clone, Copy)]
+pub(super) struct Launches<'a> {
+    time: &'a [f64],
+    mass: &'a [f64],
+    sx: &'a [f64],
+    sy: &'a [f64],
+    sz: &'a [f64],
+}
+
+impl<'a> Launches<'a> {
+    /// The columns, or none.
+    fn of(time: &'a [f64], mass: &'a [f64], spin: &'a Vec3s, read: bool) -> Launches<'a> {
+        let take = |c: &'a [f64]| if read { c } else { &c[..0] };
+        Launches {
+            time: take(time),
+            mass: take(mass),
+            sx: take(&spin.x),
+            sy: take(&spin.y),
+            sz: take(&spin.z),
+        }
+    }
+
+    /// Body `i`'s mass `m` with its reciprocal and launch (a zero launch without the columns).
+    #[inline(always)]
+    pub(super) fn mass(&self, i: usize, m: f64, inv: f64) -> Mass {
+        let launch = if self.time.is_empty() {
+            Launch::default()
+        } else {
+            Launch {
+                time: self.time[i],
+                mass: self.mass[i],
+                spin: DVec3::new(self.sx[i], self.sy[i], self.sz[i]),
+            }
+        };
+        Mass { m, inv, launch }
+    }
+
+    fn sub(&self, start: usize, end: usize) -> Launches<'a> {
+        let cut = |c: &'a [f64]| if c.is_empty() { c } else { &c[start..end] };
+        Launches {
+            time: cut(self.time),
+            mass: cut(self.mass),
+            sx: cut(self.sx),
+            sy: cut(self.sy),
+            sz: cut(self.sz),
+        }
+    }
+
+    /// The first `mid` bodies and the rest (both empty without the columns).
+    fn split_at(&self, mid: usize) -> (Launches<'a>, Launches<'a>) {
+        let n = self.time.len();
+        (self.sub(0, mid.min(n)), self.sub(mid.min(n), n))
+    }
 }
 
 #[inline]
@@ -73,9 +135,35 @@ pub(super) struct Fixed<'a> {
     pub(super) mass: &'a [f64],
     pub(super) inv_mass: &'a [f64],
     pub(super) radius: &'a [f64],
+    pub(super) launch: Launches<'a>,
+    /// The guard's bounds (the batch's guard reads them).
+    pub(super) energy_cap: &'a [f64],
 }
 
 impl<'a> Fixed<'a> {
+    /// The fixed columns of `b`, the launch ones only if `forces` read them, beside its
+    /// positions and momenta to write.
+    #[inline]
+    pub(super) fn of(
+        b: &'a mut Bodies,
+        forces: &Forces,
+    ) -> (Fixed<'a>, &'a mut Vec3s, &'a mut Vec3s) {
+        let fixed = Fixed {
+            ids: &b.id,
+            mass: &b.mass,
+            inv_mass: &b.inv_mass,
+            radius: &b.radius,
+            launch: Launches::of(
+                &b.launch_time,
+                &b.launch_mass,
+                &b.spin,
+                forces.reads_launch(),
+            ),
+            energy_cap: &b.energy_cap,
+        };
+        (fixed, &mut b.p, &mut b.mv)
+    }
+
     /// Chunk over these bodies with `p`, `mV` and (if `carries`) the carried force.
     #[inline]
     pub(super) fn chunk(
@@ -105,6 +193,7 @@ impl<'a> Fixed<'a> {
             mass: self.mass,
             inv_mass: self.inv_mass,
             radius: self.radius,
+            launch: self.launch,
         }
     }
 }
@@ -138,6 +227,7 @@ impl<'a> Chunk<'a> {
             mass: &self.mass[start..end],
             inv_mass: &self.inv_mass[start..end],
             radius: &self.radius[start..end],
+            launch: self.launch.sub(start, end),
         }
     }
 
@@ -170,6 +260,7 @@ impl<'a> Chunk<'a> {
         let (m0, m1) = self.mass.split_at(mid);
         let (w0, w1) = self.inv_mass.split_at(mid);
         let (r0, r1) = self.radius.split_at(mid);
+        let (l0, l1) = self.launch.split_at(mid);
         (
             Chunk {
                 offset: self.offset,
@@ -186,6 +277,7 @@ impl<'a> Chunk<'a> {
                 mass: m0,
                 inv_mass: w0,
                 radius: r0,
+                launch: l0,
             },
             Chunk {
                 offset: self.offset + mid,
@@ -202,6 +294,7 @@ impl<'a> Chunk<'a> {
                 mass: m1,
                 inv_mass: w1,
                 radius: r1,
+                launch: l1,
             },
         )
     }

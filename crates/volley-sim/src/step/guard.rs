@@ -13,11 +13,8 @@ impl World {
     /// its bound stops the run.
     pub(super) fn guard_energy(&mut self) -> Result<(), Divergence> {
         let every = u64::from(self.params.guard.every);
-        // A game's own term may add energy (thrust does): then only finiteness is checked.
-        if every == 0
-            || !self.state.tick.is_multiple_of(every)
-            || self.state.forces.custom.is_some()
-        {
+        // A game's own term or a motor may add energy: then only finiteness is checked.
+        if every == 0 || !self.state.tick.is_multiple_of(every) || self.state.forces.adds_energy() {
             return Ok(());
         }
         let found = match self.state.forces.constant_field() {

@@ -5,7 +5,7 @@
 use glam::DVec3;
 
 use crate::contact::{self, Event, Particle, StepContext};
-use crate::integrate::{BodyState, Mass, Scheme, SchemeVisitor, visit};
+use crate::integrate::{BodyState, Scheme, SchemeVisitor, visit};
 use crate::simd::{SimdLevel, simd_level};
 use crate::world::World;
 
@@ -32,13 +32,8 @@ impl World {
             rest_speed: gravity * h,
         };
         let b = &mut self.state.bodies;
-        let fixed = Fixed {
-            ids: &b.id,
-            mass: &b.mass,
-            inv_mass: &b.inv_mass,
-            radius: &b.radius,
-        };
-        let chunk = fixed.chunk(&mut b.p, &mut b.mv, &mut self.state.carry, carries);
+        let (fixed, p, mv) = Fixed::of(b, &self.state.forces);
+        let chunk = fixed.chunk(p, mv, &mut self.state.carry, carries);
         let out = visit(
             self.state.integrator,
             &self.state.forces,
@@ -136,10 +131,7 @@ pub(super) fn fill_carry<S: Scheme>(scheme: &S, l: &mut Chunk, t: f64) -> u64 {
             p: DVec3::new(l.px[i], l.py[i], l.pz[i]),
             mv: DVec3::new(l.mx[i], l.my[i], l.mz[i]),
         };
-        let w = Mass {
-            m: l.mass[i],
-            inv: l.inv_mass[i],
-        };
+        let w = l.launch.mass(i, l.mass[i], l.inv_mass[i]);
         let f = scheme.start_carry(s, w, t);
         (l.cx[i], l.cy[i], l.cz[i]) = (f.x, f.y, f.z);
     }
@@ -250,12 +242,9 @@ pub(super) fn run_chunk<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
     let mut all_finite = true;
     for i in 0..n {
         let w = if STREAMING {
-            Mass::new(mass[i])
+            l.launch.mass(i, mass[i], 1.0 / mass[i])
         } else {
-            Mass {
-                m: mass[i],
-                inv: inv_mass[i],
-            }
+            l.launch.mass(i, mass[i], inv_mass[i])
         };
         let s0 = BodyState {
             p: DVec3::new(px[i], py[i], pz[i]),

@@ -50,9 +50,37 @@ impl World {
                 self.state.tick = next_tick;
                 return Err(self.stop(i, DivergenceCause::NonFinite));
             }
+            if self.state.forces.thrust.is_some() {
+                // The next step's start, formed as that step forms it.
+                let t1 = if k + 1 < self.params.substeps {
+                    self.time_of(self.state.tick) + f64::from(k + 1) * h_sub
+                } else {
+                    self.time_of(next_tick)
+                };
+                self.burn(t1);
+            }
         }
         self.state.tick = next_tick;
         self.guard_energy()
+    }
+
+    /// The motor's stage after a step ending at `t1`: each body's mass becomes what its motor
+    /// has left then, and its momentum that mass times the velocity the step ended with (the
+    /// momentum the burnt propellant carried off is dropped here; [`crate::forces::Thrust`]).
+    fn burn(&mut self, t1: f64) {
+        let Some(motor) = &self.state.forces.thrust else {
+            return;
+        };
+        let b = &mut self.state.bodies;
+        for i in 0..b.len() {
+            let m1 = motor.mass_at(t1 - b.launch_time[i], b.launch_mass[i]);
+            if m1 != b.mass[i] {
+                let v = b.mv.get(i) * b.inv_mass[i];
+                b.mass[i] = m1;
+                b.inv_mass[i] = 1.0 / m1;
+                b.mv.set(i, m1 * v);
+            }
+        }
     }
 
     /// Stops the run at storage index `i` for `cause`; the world keeps this state.
@@ -89,7 +117,8 @@ impl World {
         if let Some(d) = self.diverged {
             return Err(d);
         }
-        let batches = self.params.contacts.is_empty();
+        // A motor's mass changes between steps (`burn`), which a batch does not do.
+        let batches = self.params.contacts.is_empty() && self.state.forces.thrust.is_none();
         let mut left = n;
         while left > 0 {
             let m = left.min(BATCH_MAX_TICKS);

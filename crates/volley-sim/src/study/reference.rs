@@ -221,9 +221,9 @@ pub(crate) fn build(
             events,
         ));
     }
-    // The extrapolation's derivative knows no clock, so a game's own term (which may read it)
-    // takes the RK4 reference.
-    if no_contacts && scene.forces.custom.is_none() {
+    // The extrapolation's derivative knows no clock and no launch, so the terms that read them
+    // (a game's own, a spin, a motor) take the RK4 reference.
+    if no_contacts && !scene.forces.timed() {
         let (frames, error_estimate) =
             extrapolation_frames(&world, ticks, stride, EXTRAPOLATION_TOLERANCE)?;
         let kind = ReferenceKind::Extrapolation {

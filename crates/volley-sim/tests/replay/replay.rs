@@ -376,8 +376,9 @@ fn a_keyframe_field_the_hash_does_not_cover_is_still_compared() {
         .iter_mut()
         .find(|f| f.kind == 2 && f.payload[..8] == 100u64.to_le_bytes())
         .unwrap();
-    // Launcher speed: after tick, next_id, rng (3 x 8), 3 tags, the muzzle position (3 x 8).
-    keyframe_100.payload[51..59].copy_from_slice(&99.0f64.to_bits().to_le_bytes());
+    // Launcher speed: after tick, next_id, rng (3 x 8), the integrator, force mask (2 bytes)
+    // and carry tags, the muzzle position (3 x 8).
+    keyframe_100.payload[52..60].copy_from_slice(&99.0f64.to_bits().to_le_bytes());
     let d = replay(&assemble(&frames), None)
         .first_divergence()
         .cloned()
@@ -402,9 +403,9 @@ fn a_force_evaluation_count_that_differs_is_a_warning_not_a_divergence() {
         .iter_mut()
         .find(|f| f.kind == 2 && f.payload[..8] == 50u64.to_le_bytes())
         .unwrap();
-    // force_evals: after the 27 bytes of ticks, ids, tags and the 8 launcher floats.
-    let evals = u64::from_le_bytes(keyframe_50.payload[91..99].try_into().unwrap());
-    keyframe_50.payload[91..99].copy_from_slice(&(evals + 5).to_le_bytes());
+    // force_evals: after the 28 bytes of ticks, ids and tags and the 10 launcher floats.
+    let evals = u64::from_le_bytes(keyframe_50.payload[108..116].try_into().unwrap());
+    keyframe_50.payload[108..116].copy_from_slice(&(evals + 5).to_le_bytes());
     let replay = replay(&assemble(&frames), None);
     assert!(replay.first_divergence().is_none());
     let (tick, f) = replay.force_evals_differ().unwrap();
@@ -613,18 +614,22 @@ fn wrong_magic_another_format_version_or_an_unparsable_scene_is_a_one_line_error
     let mut magic = bytes.clone();
     magic[1] = b'X';
     let mut newer = bytes.clone();
-    newer[8..12].copy_from_slice(&3u32.to_le_bytes());
+    newer[8..12].copy_from_slice(&4u32.to_le_bytes());
     let mut older = bytes.clone();
     older[8..12].copy_from_slice(&0u32.to_le_bytes());
     // Version 1 stored one record per hash; its files are refused, not misread.
+    // Version 2 had an 8-bit force mask and no launch columns: refused too.
+    let mut version_2 = bytes.clone();
+    version_2[8..12].copy_from_slice(&2u32.to_le_bytes());
     let mut version_1 = bytes.clone();
     version_1[8..12].copy_from_slice(&1u32.to_le_bytes());
     let cases = [
         (magic, "not a Volley recording (wrong magic bytes)"),
         (
             newer,
-            "format version 3 is newer than the one this build reads (2)",
+            "format version 4 is newer than the one this build reads (3)",
         ),
+        (version_2, "format version 2 is older"),
         (older, "format version 0 is older"),
         (version_1, "format version 1 is older"),
         (bytes[..5].to_vec(), "wrong magic"),

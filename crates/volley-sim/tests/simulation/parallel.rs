@@ -118,6 +118,7 @@ fn a_divergence_in_a_later_chunk_names_the_same_tick_and_body() {
                     radius: 0.0,
                     position: DVec3::new(x, 0.0, 0.0),
                     velocity: DVec3::ZERO,
+                    spin: Default::default(),
                 });
             }
             (0..100).find_map(|_| world.step().err())

@@ -245,6 +245,7 @@ fn the_seed_built_in_code_steps_to_the_files_hash() {
             radius: 0.1,
             position: glam::DVec3::new(10.0, 0.0, 2.0),
             velocity: file.bodies[0].velocity,
+            spin: Default::default(),
         })
         .build()
         .unwrap();

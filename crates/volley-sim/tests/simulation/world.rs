@@ -19,6 +19,7 @@ fn ball(x: f64) -> BodySpec {
         radius: 0.1,
         position: DVec3::new(x, 0.0, 10.0),
         velocity: DVec3::ZERO,
+        spin: Default::default(),
     }
 }
 
