@@ -166,6 +166,8 @@ pub struct RunSummary {
     /// The loop as the window closed: policy, draw mode, frames, cadence, swings and the
     /// measured body's display error ([`session::pacing`]).
     pub pacing: String,
+    /// The panel's "Forces" lines as the window closed, an inactive term marked `(off)`.
+    pub forces: Vec<String>,
 }
 
 /// A lane as the window closed.
@@ -285,6 +287,13 @@ pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummar
         replay: app.session.replay_verdict(),
         probe: app.ui.probe.as_ref().map(|p| p.lines()),
         pacing: app.pacing_line(),
+        forces: {
+            let world = app.session.world();
+            panel::forces::lines(&world.params().declared, world.forces(), world.launcher())
+                .into_iter()
+                .map(|(line, on)| if on { line } else { format!("{line} (off)") })
+                .collect()
+        },
         lanes: app
             .session
             .lanes()

@@ -4,6 +4,7 @@
 //! replay runs, the controls that would change the simulation are greyed out.
 
 mod alerts;
+pub mod forces;
 pub mod pacing;
 pub mod plots;
 mod record;
@@ -194,6 +195,7 @@ pub fn show(
         pacing::controls(ui, state, session, out);
         ui.separator();
         ui.add_enabled_ui(live, |ui| simulation(ui, state, session, out));
+        forces::show(ui, session);
         ui.separator();
         ui.add_enabled_ui(live, |ui| compare(ui, state, session, out));
         ui.separator();

@@ -262,6 +262,7 @@ pub fn report(display: &DisplayArgs, summary: &RunSummary) {
             println!("probe: {}", lines.join("; "));
         }
         println!("{}", summary.pacing);
+        println!("forces: {}", summary.forces.join("; "));
     }
     if let (Some(_), Some(interval), Some(work), Some(ui), Some(triangles)) = (
         display.exit_after_frames,

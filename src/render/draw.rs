@@ -178,6 +178,10 @@ pub const APEX: Rgba = [250, 250, 255, 255];
 pub const IMPACT: Rgba = [255, 220, 60, 255];
 /// Colour of net-force arrows.
 pub const FORCE: Rgba = [255, 90, 200, 255];
+/// Colour of Magnus-lift arrows (a spun Mach drag).
+pub const LIFT: Rgba = [170, 255, 60, 255];
+/// Colour of thrust arrows (a motor).
+pub const THRUST: Rgba = [255, 120, 0, 255];
 /// Colour of the judder ghosts' drawn positions (spheres): cyan, apart from every lane colour.
 pub const JUDDER_DRAWN: Rgba = [60, 230, 255, 255];
 /// Colour of the judder ghosts' exact positions (crosses).
@@ -307,7 +311,8 @@ impl DrawList {
         }
     }
 
-    /// Velocity (the lane's colour) and net force (magenta) arrows from the first bodies.
+    /// Velocity (the lane's colour) and net force (magenta) arrows from the first bodies, and
+    /// where declared the Magnus lift (lime) and the thrust (orange), at the force's scale.
     fn vectors(&mut self, lane: &Lane<'_>, scale: ArrowScale, options: &DrawOptions) {
         let world = lane.world;
         let n = world.bodies().len().min(crate::render::probe::PROBE_BODIES);
@@ -315,6 +320,12 @@ impl DrawList {
             let p = world.bodies().state(i).p;
             self.arrow(p, scale.velocity * world.velocity(i), lane.colour, options);
             self.arrow(p, scale.force * world.force_on(i), FORCE, options);
+            if let Some(lift) = world.lift_on(i) {
+                self.arrow(p, scale.force * lift, LIFT, options);
+            }
+            if let Some(thrust) = world.thrust_on(i) {
+                self.arrow(p, scale.force * thrust, THRUST, options);
+            }
         }
     }
 
@@ -375,6 +386,11 @@ impl DrawList {
                 mv: l.mass * l.velocity(),
             },
             mass: l.mass,
+            launch: crate::integrate::Launch {
+                time: world.time(),
+                mass: l.mass,
+                spin: l.spin_at(l.azimuth_deg),
+            },
             forces: world.forces().clone(),
             has_closed_form: true,
             numeric: false,

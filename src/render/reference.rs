@@ -50,6 +50,8 @@ pub struct Reference {
     pub state: BodyState,
     /// Its mass (kg).
     pub mass: f64,
+    /// Its launch: a spin's and a motor's clock and values, which the numerical reference reads.
+    pub launch: crate::integrate::Launch,
     /// Force terms active then.
     pub forces: Forces,
     /// Whether the forces have a closed form at all.
@@ -118,6 +120,7 @@ impl References {
                 spawn_time: world.time(),
                 state,
                 mass,
+                launch: bodies.launch(i),
                 forces: forces.clone(),
                 has_closed_form,
                 numeric: !has_closed_form && self.list.len() < NUMERIC_BODIES,
@@ -202,8 +205,10 @@ impl Reference {
             Some(c) if c.0 <= t => c,
             _ => (0.0, self.state, 0.0),
         };
+        let w = crate::integrate::Mass::launched(self.mass, self.launch);
+        let start = self.spawn_time + t0;
         let (s, e) =
-            crate::exact::extrapolate(&self.forces, s0, self.mass, t - t0, NUMERIC_TOLERANCE)
+            crate::exact::extrapolate_from(&self.forces, s0, w, start, t - t0, NUMERIC_TOLERANCE)
                 .ok()?;
         self.cache.set(Some((t, s, e0 + e)));
         Some(s)

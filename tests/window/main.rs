@@ -14,6 +14,7 @@ mod window_compare;
 mod window_pacing;
 mod window_plots;
 mod window_probe;
+mod window_projectiles;
 mod window_record_replay;
 mod window_rewind;
 mod window_session;

@@ -25,7 +25,7 @@ mod kepler;
 mod linear;
 mod series;
 
-pub use extrapolation::{ExtrapolationError, extrapolate};
+pub use extrapolation::{ExtrapolationError, extrapolate, extrapolate_from};
 pub use kepler::{
     Anomaly, KeplerError, KeplerOrbit, MAX_ITERATIONS, RADIAL_PERIAPSIS, kepler_flow,
     kepler_flow_momentum,

@@ -276,6 +276,12 @@ fn check(range: &Range) -> Result<(), FiringError> {
             range.max_flight_time
         )));
     }
+    if range.scene.forces.thrust.is_some() {
+        return Err(FiringError::Invalid(
+            "a scene with Thrust: a motor's flight is steered, not aimed by its launch alone"
+                .into(),
+        ));
+    }
     if range.target.center == range.from && range.target.velocity == DVec3::ZERO {
         return Err(FiringError::Invalid(
             "launch point and target are the same point".into(),

@@ -32,6 +32,10 @@ pub use thrust::{Thrust, ThrustCurve, ThrustCurveError, ThrustDirection};
 /// declared terms). Integrators are generic over it, so the choice of model is resolved at
 /// compile time inside the per-body loop.
 pub trait ForceModel: Sync {
+    /// Whether [`ForceModel::force_at`] may read `w.launch`: false for the fast paths, whose
+    /// per-body loop then never loads the launch columns (and stays vectorised).
+    const READS_LAUNCH: bool = false;
+
     /// Net force (N) on a body of mass `m` (kg) at position `p` (m) with velocity `v` (m/s).
     fn force(&self, p: DVec3, v: DVec3, m: f64) -> DVec3;
     /// [`ForceModel::force`] at time `t` (s, the world's clock) on a body of mass `w.m` launched
@@ -400,6 +404,8 @@ impl Forces {
 }
 
 impl ForceModel for Forces {
+    const READS_LAUNCH: bool = true;
+
     /// Every term but those that need the time or the launch ([`ForceModel::force_at`]): a
     /// game's own, a spun Mach drag (the whole term) and a motor.
     #[inline]

@@ -273,6 +273,9 @@ pub(crate) trait Scheme: Sync {
     const EVALS: u64;
     /// Whether the end-of-step force is carried to the next step (velocity Verlet).
     const CARRIES_FORCE: bool = false;
+    /// Whether the force model may read a body's launch ([`ForceModel::READS_LAUNCH`]): the
+    /// per-body loop fills [`Mass::launch`] only then, so the fast paths stay vectorised.
+    const READS_LAUNCH: bool = false;
     /// Whether the evaluations per step vary (Dormand-Prince): then callers count them with
     /// [`Scheme::step_counted`] instead of [`Scheme::EVALS`].
     const ADAPTIVE: bool = false;

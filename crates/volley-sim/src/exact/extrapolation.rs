@@ -14,7 +14,7 @@
 
 use glam::DVec3;
 
-use crate::body::BodyState;
+use crate::body::{BodyState, Mass};
 use crate::forces::{ForceModel, Forces};
 
 /// Most macro steps one [`extrapolate`] call takes.
@@ -75,23 +75,25 @@ impl Y {
     }
 }
 
-fn deriv(forces: &Forces, m: f64, y: Y) -> Y {
+/// The derivative at time `t` on the world's clock: every term at its own time and with the
+/// body's launch (a spin's lift, a motor, a game's own term), as the integrators read them.
+fn deriv(forces: &Forces, w: Mass, t: f64, y: Y) -> Y {
     Y {
         p: y.v,
-        v: forces.force(y.p, y.v, m) / m,
+        v: forces.force_at(t, y.p, y.v, w) / w.m,
     }
 }
 
-/// Gragg's modified midpoint rule over `big_h` with `n` substeps.
-fn midpoint(forces: &Forces, m: f64, y0: Y, big_h: f64, n: u32) -> Y {
+/// Gragg's modified midpoint rule over `big_h` with `n` substeps, from time `t0`.
+fn midpoint(forces: &Forces, w: Mass, t0: f64, y0: Y, big_h: f64, n: u32) -> Y {
     let h = big_h / f64::from(n);
     let mut prev = y0;
-    let mut cur = y0.add(h, deriv(forces, m, y0));
-    for _ in 1..n {
-        let next = prev.add(2.0 * h, deriv(forces, m, cur));
+    let mut cur = y0.add(h, deriv(forces, w, t0, y0));
+    for k in 1..n {
+        let next = prev.add(2.0 * h, deriv(forces, w, t0 + f64::from(k) * h, cur));
         (prev, cur) = (cur, next);
     }
-    let end = cur.add(h, deriv(forces, m, cur));
+    let end = cur.add(h, deriv(forces, w, t0 + big_h, cur));
     Y {
         p: 0.5 * (prev.p + end.p),
         v: 0.5 * (prev.v + end.v),
@@ -99,11 +101,11 @@ fn midpoint(forces: &Forces, m: f64, y0: Y, big_h: f64, n: u32) -> Y {
 }
 
 /// One extrapolated macro step: the best estimate and its error estimate (max norm).
-fn macro_step(forces: &Forces, m: f64, y0: Y, big_h: f64) -> (Y, f64) {
+fn macro_step(forces: &Forces, w: Mass, t0: f64, y0: Y, big_h: f64) -> (Y, f64) {
     let mut table: Vec<Y> = Vec::with_capacity(SEQUENCE.len());
     let mut err = f64::INFINITY;
     for (j, &nj) in SEQUENCE.iter().enumerate() {
-        let mut t = midpoint(forces, m, y0, big_h, nj);
+        let mut t = midpoint(forces, w, t0, y0, big_h, nj);
         // Aitken-Neville: row j from row j - 1, in place.
         let mut row = vec![t];
         for k in 1..=j {
@@ -140,6 +142,22 @@ pub fn extrapolate(
     t: f64,
     tolerance: f64,
 ) -> Result<(BodyState, f64), ExtrapolationError> {
+    extrapolate_from(forces, s0, Mass::new(m), 0.0, t, tolerance)
+}
+
+/// [`extrapolate`] for a body launched as `w.launch` says, from time `start` on the world's
+/// clock: the terms that read the clock or the launch (a game's own, a spin, a motor) are
+/// evaluated at each substep's own time. With a motor the state's momentum stays `w.m V` (the
+/// step's convention, [`crate::forces::Thrust`]): compare velocities, not momenta.
+pub fn extrapolate_from(
+    forces: &Forces,
+    s0: BodyState,
+    w: Mass,
+    start: f64,
+    t: f64,
+    tolerance: f64,
+) -> Result<(BodyState, f64), ExtrapolationError> {
+    let m = w.m;
     let mut y = Y {
         p: s0.p,
         v: s0.mv / m,
@@ -159,7 +177,7 @@ pub fn extrapolate(
             ));
         }
         let step = h.min(t - done);
-        let (next, err) = macro_step(forces, m, y, step);
+        let (next, err) = macro_step(forces, w, start + done, y, step);
         let bound = tolerance * (1.0 + y.scale_max().max(next.scale_max()));
         if !(next.p.is_finite() && next.v.is_finite()) {
             if step <= 1e-12 * t {

@@ -14,6 +14,7 @@ pub(super) struct Stepped<'a> {
     pub(super) integrator: Integrator,
     pub(super) forces: Forces,
     pub(super) tolerance: f64,
+    /// The shot's mass; its spin follows the launch's azimuth ([`Stepped::mass_for`]).
     pub(super) w: Mass,
     pub(super) hs: f64,
     /// The launch on the world's clock: the scene's start time.
@@ -33,6 +34,20 @@ impl<'a> Stepped<'a> {
         }
     }
 
+    /// The shot's mass with its launch: at `t0`, spinning as the scene's launcher spins a shot
+    /// fired along `v0` (the spin's axis turns with the azimuth), as the world check fires it.
+    pub(super) fn mass_for(&self, v0: DVec3) -> Mass {
+        let azimuth = libm::atan2(v0.y, v0.x).to_degrees();
+        Mass::launched(
+            self.w.m,
+            crate::body::Launch {
+                time: self.t0,
+                mass: self.w.m,
+                spin: self.range.scene.launcher.spin_at(azimuth),
+            },
+        )
+    }
+
     pub(super) fn launch_state(&self, v0: DVec3) -> BodyState {
         BodyState {
             p: self.range.from,
@@ -44,7 +59,7 @@ impl<'a> Stepped<'a> {
         let samples = Samples {
             s0: self.launch_state(v0),
             t0: self.t0,
-            w: self.w,
+            w: self.mass_for(v0),
             hs: self.hs,
             count,
         };
@@ -56,7 +71,7 @@ impl<'a> Stepped<'a> {
         let at = At {
             s0: self.launch_state(v0),
             t0: self.t0,
-            w: self.w,
+            w: self.mass_for(v0),
             hs: self.hs,
             steps,
             tau,

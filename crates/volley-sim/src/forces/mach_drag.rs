@@ -286,6 +286,14 @@ impl MachDrag {
     /// [`MachDrag::force`] is.
     #[inline(never)]
     pub fn spun_force(&self, t: f64, p: DVec3, v: DVec3, w: crate::body::Mass) -> DVec3 {
+        let (drag, lift) = self.spun_parts(t, p, v, w);
+        drag + lift
+    }
+
+    /// [`MachDrag::spun_force`] in its two parts: the drag (along `-u`) and the lift (across
+    /// it; zero without a spin, a diameter, speed or spin rate).
+    #[inline(always)]
+    pub fn spun_parts(&self, t: f64, p: DVec3, v: DVec3, w: crate::body::Mass) -> (DVec3, DVec3) {
         let u = v - self.wind_at(p.z);
         let (density, sound) = self.air.at(p.z);
         let speed = u.length();
@@ -297,14 +305,17 @@ impl MachDrag {
             + spin.map_or(0.0, |s| s.drag_per_spin * rate);
         let drag = -(self.size.half_area(w.m) * density * cd * speed) * u;
         let (Some(s), DragSize::Diameter { diameter, .. }) = (spin, self.size) else {
-            return drag;
+            return (drag, DVec3::ZERO);
         };
         if speed == 0.0 || rate == 0.0 {
-            return drag;
+            return (drag, DVec3::ZERO);
         }
         let c_l = s.lift.coefficient(0.5 * diameter * rate / speed);
         let half_area = (std::f64::consts::PI / 8.0) * diameter * diameter;
-        drag + (half_area * density * c_l * speed / rate) * omega.cross(u)
+        (
+            drag,
+            (half_area * density * c_l * speed / rate) * omega.cross(u),
+        )
     }
 
     /// A body's spin (rad/s) at time `t` moving at `v` at `p`: its launch spin, decayed since

@@ -68,6 +68,7 @@ pub(super) fn scaled_error(e: DVec3, y0: DVec3, y1: DVec3) -> f64 {
 
 impl<F: ForceModel> Scheme for Dopri5<'_, F> {
     const EVALS: u64 = 7;
+    const READS_LAUNCH: bool = F::READS_LAUNCH;
     const ADAPTIVE: bool = true;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t0: f64, h: f64, c: DVec3) -> (BodyState, DVec3) {

@@ -21,6 +21,7 @@ pub(super) struct ImplicitMidpointSplit<'a, F>(pub(super) &'a F);
 
 impl<F: ForceModel> Scheme for ExplicitEuler<'_, F> {
     const EVALS: u64 = 1;
+    const READS_LAUNCH: bool = F::READS_LAUNCH;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let v = s.mv * w.inv;
@@ -38,6 +39,7 @@ impl<F: ForceModel> Scheme for ExplicitEuler<'_, F> {
 
 impl<F: ForceModel> Scheme for SemiImplicitEuler<'_, F> {
     const EVALS: u64 = 1;
+    const READS_LAUNCH: bool = F::READS_LAUNCH;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let f = self.0.force_at(t, s.p, s.mv * w.inv, w);
@@ -55,6 +57,7 @@ impl<F: ForceModel> Scheme for SemiImplicitEuler<'_, F> {
 
 impl<F: ForceModel> Scheme for Verlet<'_, F> {
     const EVALS: u64 = 1;
+    const READS_LAUNCH: bool = F::READS_LAUNCH;
     const CARRIES_FORCE: bool = true;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, f0: DVec3) -> (BodyState, DVec3) {
@@ -77,6 +80,7 @@ impl<F: ForceModel> Scheme for Verlet<'_, F> {
 
 impl<F: ForceModel> Scheme for VerletPredicted<'_, F> {
     const EVALS: u64 = 2;
+    const READS_LAUNCH: bool = F::READS_LAUNCH;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let half = 0.5 * h;
@@ -100,6 +104,7 @@ impl<F: ForceModel> Scheme for VerletPredicted<'_, F> {
 
 impl<F: ForceModel> Scheme for Midpoint<'_, F> {
     const EVALS: u64 = 2;
+    const READS_LAUNCH: bool = F::READS_LAUNCH;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let half = 0.5 * h;
@@ -122,6 +127,7 @@ impl<F: ForceModel> Scheme for Midpoint<'_, F> {
 
 impl<F: ForceModel> Scheme for Rk4<'_, F> {
     const EVALS: u64 = 4;
+    const READS_LAUNCH: bool = F::READS_LAUNCH;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let half = 0.5 * h;
@@ -148,6 +154,7 @@ impl<F: ForceModel> Scheme for Rk4<'_, F> {
 
 impl<F: ForceModel> Scheme for ImplicitEuler<'_, F> {
     const EVALS: u64 = 1;
+    const READS_LAUNCH: bool = F::READS_LAUNCH;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let lin = self.0.linear_part(w.m);
@@ -168,6 +175,7 @@ impl<F: ForceModel> Scheme for ImplicitEuler<'_, F> {
 
 impl<F: ForceModel> Scheme for Exact<'_, F> {
     const EVALS: u64 = 0;
+    const READS_LAUNCH: bool = F::READS_LAUNCH;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, _: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         // The fast-path models have no point mass and no spring: these tests fold away for
@@ -277,6 +285,7 @@ pub(super) fn generalized_verlet<F: ForceModel>(
 
 impl<F: ForceModel> Scheme for ForestRuth<'_, F> {
     const EVALS: u64 = 3;
+    const READS_LAUNCH: bool = F::READS_LAUNCH;
     const CARRIES_FORCE: bool = true;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, fp0: DVec3) -> (BodyState, DVec3) {
@@ -308,6 +317,7 @@ pub(super) fn midpoint_linear(
 
 impl<F: ForceModel> Scheme for ImplicitMidpoint<'_, F> {
     const EVALS: u64 = 1;
+    const READS_LAUNCH: bool = F::READS_LAUNCH;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, _: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let lin = self.0.linear_part(w.m);
@@ -326,6 +336,7 @@ impl<F: ForceModel> Scheme for ImplicitMidpoint<'_, F> {
 
 impl<F: ForceModel> Scheme for ImplicitMidpointSplit<'_, F> {
     const EVALS: u64 = 2;
+    const READS_LAUNCH: bool = F::READS_LAUNCH;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
         let f = self.0;

@@ -74,22 +74,35 @@ pub(super) struct Launches<'a> {
 }
 
 impl<'a> Launches<'a> {
+    /// No columns: what every world without a spin or a motor passes.
+    const NONE: Launches<'static> = Launches {
+        time: &[],
+        mass: &[],
+        sx: &[],
+        sy: &[],
+        sz: &[],
+    };
+
     /// The columns, or none.
+    #[inline]
     fn of(time: &'a [f64], mass: &'a [f64], spin: &'a Vec3s, read: bool) -> Launches<'a> {
-        let take = |c: &'a [f64]| if read { c } else { &c[..0] };
+        if !read {
+            return Launches::NONE;
+        }
         Launches {
-            time: take(time),
-            mass: take(mass),
-            sx: take(&spin.x),
-            sy: take(&spin.y),
-            sz: take(&spin.z),
+            time,
+            mass,
+            sx: &spin.x,
+            sy: &spin.y,
+            sz: &spin.z,
         }
     }
 
-    /// Body `i`'s mass `m` with its reciprocal and launch (a zero launch without the columns).
+    /// Body `i`'s mass `m` with its reciprocal and launch (a zero launch without the columns,
+    /// or when the scheme's model never reads it, decided at compile time).
     #[inline(always)]
-    pub(super) fn mass(&self, i: usize, m: f64, inv: f64) -> Mass {
-        let launch = if self.time.is_empty() {
+    pub(super) fn mass<S: Scheme>(&self, i: usize, m: f64, inv: f64) -> Mass {
+        let launch = if !S::READS_LAUNCH || self.time.is_empty() {
             Launch::default()
         } else {
             Launch {

@@ -131,7 +131,7 @@ pub(super) fn fill_carry<S: Scheme>(scheme: &S, l: &mut Chunk, t: f64) -> u64 {
             p: DVec3::new(l.px[i], l.py[i], l.pz[i]),
             mv: DVec3::new(l.mx[i], l.my[i], l.mz[i]),
         };
-        let w = l.launch.mass(i, l.mass[i], l.inv_mass[i]);
+        let w = l.launch.mass::<S>(i, l.mass[i], l.inv_mass[i]);
         let f = scheme.start_carry(s, w, t);
         (l.cx[i], l.cy[i], l.cz[i]) = (f.x, f.y, f.z);
     }
@@ -242,9 +242,9 @@ pub(super) fn run_chunk<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
     let mut all_finite = true;
     for i in 0..n {
         let w = if STREAMING {
-            l.launch.mass(i, mass[i], 1.0 / mass[i])
+            l.launch.mass::<S>(i, mass[i], 1.0 / mass[i])
         } else {
-            l.launch.mass(i, mass[i], inv_mass[i])
+            l.launch.mass::<S>(i, mass[i], inv_mass[i])
         };
         let s0 = BodyState {
             p: DVec3::new(px[i], py[i], pz[i]),

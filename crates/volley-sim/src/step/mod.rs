@@ -43,6 +43,7 @@ impl World {
         self.scratch.events.clear();
         let next_tick = self.state.tick + 1;
         let h_sub = self.params.h / f64::from(self.params.substeps);
+        let motor = self.state.forces.thrust.is_some();
         for k in 0..self.params.substeps {
             let t0 = self.time_of(self.state.tick) + f64::from(k) * h_sub;
             let since = self.state.tick as f64 * self.params.h + f64::from(k) * h_sub;
@@ -50,7 +51,7 @@ impl World {
                 self.state.tick = next_tick;
                 return Err(self.stop(i, DivergenceCause::NonFinite));
             }
-            if self.state.forces.thrust.is_some() {
+            if motor {
                 // The next step's start, formed as that step forms it.
                 let t1 = if k + 1 < self.params.substeps {
                     self.time_of(self.state.tick) + f64::from(k + 1) * h_sub
