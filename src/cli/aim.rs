@@ -58,6 +58,92 @@ pub struct AimArgs {
     /// Longest flight (s) a solution may take.
     #[arg(long, default_value_t = firing::DEFAULT_MAX_FLIGHT_TIME)]
     pub max_flight_time: f64,
+    /// A holdover table instead, at the ranges FROM:TO:STEP (m) along a level line of sight
+    /// from the launcher (e.g. 100:1000:100), against the zero `--zero`.
+    #[arg(long, value_name = "FROM:TO:STEP", conflicts_with_all = ["to", "elevation", "min_speed", "speed"])]
+    pub holdover: Option<String>,
+    /// The holdover table's zero range (m); default: its first range.
+    #[arg(long, requires = "holdover")]
+    pub zero: Option<f64>,
+    /// The sight's height above the bore (m) for the holdover table.
+    #[arg(long, default_value_t = 0.0381, requires = "holdover")]
+    pub sight_height: f64,
+}
+
+/// `FROM:TO:STEP` as the ranges it lists, or the line saying what was expected.
+fn ranges_of(text: &str) -> Result<Vec<f64>, Failure> {
+    let bad = || {
+        fail(
+            EXIT_INPUT,
+            format!(
+                "--holdover: expected FROM:TO:STEP in m with 0 < FROM <= TO and STEP > 0, \
+                 at most 1000 ranges, got `{text}`"
+            ),
+        )
+    };
+    let parts: Vec<f64> = text
+        .split(':')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad())?;
+    let [from, to, step] = parts[..] else {
+        return Err(bad());
+    };
+    if !(from > 0.0 && to >= from && step > 0.0 && to.is_finite()) || (to - from) / step > 999.0 {
+        return Err(bad());
+    }
+    // Each range from the index, never a running sum.
+    let n = ((to - from) / step + 1e-9).floor() as u32;
+    Ok((0..=n).map(|k| from + f64::from(k) * step).collect())
+}
+
+/// Prints the holdover table for `args.holdover`.
+fn run_holdover(args: &AimArgs, spec: &str) -> Result<(), Failure> {
+    let ranges = ranges_of(spec)?;
+    let scene = match &args.scene {
+        Some(name) => load_scene(name, &args.overrides)?.1,
+        None => return Err(fail(EXIT_INPUT, "--holdover: needs a scene")),
+    };
+    let zero = args.zero.unwrap_or(ranges[0]);
+    let table = firing::holdover(&scene, args.sight_height, zero, &ranges)
+        .map_err(|e| fail(EXIT_INPUT, e))?;
+    let mut text = format!(
+        "{} at dt {} s x{} substep(s) on {}; {} m/s, sight {} m above the bore, zero {} m at \
+         elevation {:.4} deg\n",
+        scene.integrator.name(),
+        scene.dt(),
+        scene.substeps,
+        scene.name,
+        scene.launcher.speed,
+        args.sight_height,
+        table.zero.0,
+        table.zero.1
+    );
+    text += &format!(
+        "{:>8} {:>10} {:>9} {:>8} {:>9} {:>7} {:>10} {:>12}\n",
+        "range_m", "elev_deg", "hold_mrad", "hold_moa", "hold_m", "time_s", "miss_m", "textbook_m"
+    );
+    for r in &table.rows {
+        let textbook = r
+            .shot
+            .textbook
+            .map_or_else(|| "-".to_string(), |t| format!("{:.4}", t.miss));
+        text += &format!(
+            "{:>8} {:>10.4} {:>9.3} {:>8.2} {:>9.4} {:>7.3} {:>10.1e} {:>12}\n",
+            r.range,
+            r.shot.elevation_deg,
+            r.hold_mrad,
+            r.hold_moa,
+            r.hold_at_target,
+            r.shot.flight_time,
+            r.shot.miss,
+            textbook
+        );
+    }
+    std::io::stdout()
+        .lock()
+        .write_all(text.as_bytes())
+        .map_err(|e| fail(EXIT_ENVIRONMENT, e))
 }
 
 /// The scene when none is given: gravity alone, the closed form, 60 Hz.
@@ -141,6 +227,9 @@ fn range_of(args: &AimArgs) -> Result<(Range, Mode), Failure> {
 
 /// Prints every solution with its check and the textbook's miss.
 pub fn run(args: &AimArgs) -> Result<(), Failure> {
+    if let Some(spec) = &args.holdover {
+        return run_holdover(args, spec);
+    }
     let (range, mode) = range_of(args)?;
     let shots = firing::solve(&range, mode).map_err(|e| fail(EXIT_INPUT, e))?;
     let s = &range.scene;

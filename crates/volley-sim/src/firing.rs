@@ -48,12 +48,14 @@ use crate::world::World;
 
 mod error;
 mod flight;
+mod holdover;
 mod search;
 mod shooter;
 mod trajectory;
 
 pub use error::{FiringError, blocked_text};
 use flight::*;
+pub use holdover::{Holdover, HoldoverRow, MOA_PER_MRAD, holdover, sight_point};
 use search::*;
 pub use shooter::discrete_position;
 use shooter::*;

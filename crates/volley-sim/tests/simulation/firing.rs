@@ -484,3 +484,70 @@ fn every_bundled_scene_is_aimed_with_its_own_integrator_and_step() {
     }
     assert_eq!(solved, scene::BUNDLED.len() - 5);
 }
+
+/// The bundled rifle zeroed at 100 m with a 1.5 in (38.1 mm) sight: the holdover table from
+/// 100 m to 1000 m under its own integrator and tick (RK4 at 60 Hz). Each row's shot hits the
+/// line of sight in a world (the solve's own check); the zero's row holds nothing; the hold
+/// grows with the range; and the textbook (vacuum) aim, which ignores the drag, misses by more
+/// at every range, by metres at 1000 m.
+#[test]
+fn the_rifle_zeroed_at_100_m_has_a_holdover_table_to_1000_m() {
+    let scene = bundled("rifle");
+    // Every 300 m here (docs/aiming/holdover-rifle.txt has every 100 m, from the CLI).
+    let ranges = [100.0, 400.0, 700.0, 1000.0];
+    let table = firing::holdover(&scene, 0.0381, 100.0, &ranges).unwrap();
+    assert_eq!(table.zero.0, 100.0);
+    assert_eq!(table.rows[0].hold_mrad, 0.0, "the zero holds nothing");
+    let mut last = (f64::NEG_INFINITY, 0.0);
+    for row in &table.rows {
+        assert!(
+            row.shot.miss < HIT,
+            "{} m: miss {}",
+            row.range,
+            row.shot.miss
+        );
+        let textbook = row
+            .shot
+            .textbook
+            .expect("gravity gives a textbook aim")
+            .miss;
+        println!(
+            "{:>5} m  elevation {:.4} deg  hold {:+.3} mrad {:+.2} MOA {:+.3} m  \
+             {:.3} s  textbook misses by {textbook:.3} m",
+            row.range,
+            row.shot.elevation_deg,
+            row.hold_mrad,
+            row.hold_moa,
+            row.hold_at_target,
+            row.shot.flight_time
+        );
+        assert!(row.hold_mrad >= last.0, "the hold grows with the range");
+        assert!(
+            textbook > last.1,
+            "the textbook's miss grows with the range"
+        );
+        last = (row.hold_mrad, textbook);
+    }
+    assert!(last.1 > 1.0, "the textbook misses 1000 m by {} m", last.1);
+    // The angles in the units a scope is marked in, from one number.
+    let r = &table.rows[3];
+    assert!((r.hold_moa - r.hold_mrad * 3.437_746_770_784_939).abs() < 1e-12 * r.hold_moa);
+}
+
+#[test]
+fn a_holdover_table_refuses_bad_ranges_in_one_line() {
+    let scene = bundled("rifle");
+    for (zero, ranges) in [
+        (0.0, vec![100.0]),
+        (100.0, vec![-5.0]),
+        (f64::NAN, vec![1.0]),
+    ] {
+        let e = firing::holdover(&scene, 0.04, zero, &ranges)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            !e.contains('\n') && (e.contains("zero") || e.contains("range")),
+            "{e}"
+        );
+    }
+}
