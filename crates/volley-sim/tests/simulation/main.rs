@@ -7,6 +7,7 @@ mod support;
 mod aim;
 mod atmosphere;
 mod ballistics;
+mod ballistics_g7;
 mod baseball;
 mod clock;
 mod convergence;
