@@ -252,6 +252,10 @@ pub struct Probe {
     /// With a Mach drag declared: the Mach number (speed through the air over the speed of
     /// sound there) and the air's density (kg/m^3) there.
     pub air: Option<(f64, f64)>,
+    /// With a spun Mach drag: the body's spin there (rpm), decayed since its launch.
+    pub spin: Option<f64>,
+    /// With a motor: its thrust (N) and the body's mass (kg) there.
+    pub motor: Option<(f64, f64)>,
 }
 
 impl Probe {
@@ -278,6 +282,19 @@ impl Probe {
             .mach_drag
             .as_ref()
             .map(|d| (d.mach(at.p, at.v), d.air.at(at.p.z).0));
+        let b = world.bodies();
+        let launch = b.index_of(track.id).map(|i| b.launch(i));
+        let spin = world
+            .forces()
+            .mach_drag
+            .as_ref()
+            .filter(|d| d.spin.is_some())
+            .zip(launch)
+            .map(|(d, l)| d.spin_at(at.t, at.p, at.v, l).length() / crate::forces::RAD_S_PER_RPM);
+        let motor = world.forces().thrust.as_ref().zip(launch).map(|(m, l)| {
+            let age = at.t - l.time;
+            (m.force(age, at.v).length(), m.mass_at(age, l.mass))
+        });
         Probe {
             lane: lane.to_string(),
             body: track.id,
@@ -286,6 +303,8 @@ impl Probe {
             energy,
             error,
             air,
+            spin,
+            motor,
         }
     }
 
@@ -311,6 +330,12 @@ impl Probe {
         });
         if let Some((mach, density)) = self.air {
             out.push(format!("Mach {mach:.3}, air {density:.4} kg/m^3"));
+        }
+        if let Some(rpm) = self.spin {
+            out.push(format!("spin {rpm:.0} rpm"));
+        }
+        if let Some((thrust, mass)) = self.motor {
+            out.push(format!("thrust {thrust:.3} N, mass {:.2} g", mass * 1e3));
         }
         out
     }

@@ -195,6 +195,54 @@ fn over_a_bullet_the_probe_reads_its_mach_number_and_the_air() {
 }
 
 #[test]
+fn over_a_spun_ball_and_a_rocket_the_probe_reads_the_spin_the_thrust_and_the_mass() {
+    // The fly ball at its 1 s marker: Nathan's decay, exp(-age |u| / (30 s * 146.7 ft/s)), of
+    // its 2500 rpm (no wind, so |u| = |V|), printed to the rpm.
+    let mut s = session("baseball", vec![Integrator::Rk4]);
+    s.run_ticks(90);
+    let lane = &s.lanes()[0];
+    let track = &lane.history.probe.tracks()[0];
+    let mark = track.markers.iter().find(|m| m.at.t >= 1.0).unwrap().at;
+    let refs = &lane.history.references;
+    let probe = Probe::read("rk4", &lane.sim.world, track, "second", mark, refs);
+    let rpm = probe.spin.expect("a spun Mach drag is declared");
+    let expected = 2500.0 * libm::exp(-mark.t * mark.v.length() / (30.0 * 146.7 * 0.3048));
+    assert!(
+        (rpm - expected).abs() < 1e-9 * expected,
+        "{rpm} vs {expected}"
+    );
+    assert!(
+        probe.lines().contains(&format!("spin {rpm:.0} rpm")),
+        "{:?}",
+        probe.lines()
+    );
+    assert!(probe.motor.is_none());
+    // The rocket at 3 s, after burnout: no thrust, the dry mass (57.1 g less 10.8 g).
+    let mut s = session("model_rocket", vec![Integrator::Rk4]);
+    s.run_ticks(200);
+    let lane = &s.lanes()[0];
+    let track = &lane.history.probe.tracks()[0];
+    let mark = track.markers.iter().find(|m| m.at.t >= 3.0).unwrap().at;
+    let refs = &lane.history.references;
+    let probe = Probe::read("rk4", &lane.sim.world, track, "second", mark, refs);
+    let (thrust, mass) = probe.motor.expect("a motor is declared");
+    assert_eq!((thrust, mass), (0.0, 0.0571 - 0.0108));
+    assert!(
+        probe
+            .lines()
+            .contains(&"thrust 0.000 N, mass 46.30 g".to_string())
+    );
+    assert!(probe.spin.is_none());
+    // Half a second in, the motor burns: its curve's thrust then, the mass in between.
+    let mark = track.markers.iter().find(|m| m.at.t >= 0.5).unwrap().at;
+    let probe = Probe::read("rk4", &lane.sim.world, track, "tenth", mark, refs);
+    let (thrust, mass) = probe.motor.unwrap();
+    let motor = lane.sim.world.forces().thrust.clone().unwrap();
+    assert_eq!(thrust, motor.curve.thrust(mark.t));
+    assert!(mass < 0.0571 && mass > 0.0463, "{mass}");
+}
+
+#[test]
 fn a_script_pins_the_probe_on_the_rifle_bullet_in_the_real_window() {
     let test = "a_script_pins_the_probe_on_the_rifle_bullet_in_the_real_window";
     // The rifle's apex is near t = 1 s: hover it after 75 frames (1.25 s at 60 Hz).
