@@ -284,13 +284,10 @@ impl Probe {
             .map(|d| (d.mach(at.p, at.v), d.air.at(at.p.z).0));
         let b = world.bodies();
         let launch = b.index_of(track.id).map(|i| b.launch(i));
-        let spin = world
-            .forces()
-            .mach_drag
-            .as_ref()
-            .filter(|d| d.spin.is_some())
-            .zip(launch)
-            .map(|(d, l)| d.spin_at(at.t, at.p, at.v, l).length() / crate::forces::RAD_S_PER_RPM);
+        let spin =
+            world.forces().spun_drag().zip(launch).map(|(d, l)| {
+                d.spin_at(at.t, at.p, at.v, l).length() / crate::forces::RAD_S_PER_RPM
+            });
         let motor = world.forces().thrust.as_ref().zip(launch).map(|(m, l)| {
             let age = at.t - l.time;
             (m.force(age, at.v).length(), m.mass_at(age, l.mass))

@@ -349,15 +349,19 @@ impl Forces {
     #[inline(always)]
     fn plus_timed(&self, f: DVec3, t: f64, p: DVec3, v: DVec3, w: Mass) -> DVec3 {
         let mut f = f;
-        if let Some(d) = &self.mach_drag
-            && d.spin.is_some()
-        {
+        if let Some(d) = self.spun_drag() {
             f += d.spun_force(t, p, v, w);
         }
         if let Some(c) = &self.custom {
             f += c.force(t, p, v, w.m);
         }
         f
+    }
+
+    /// The Mach drag, if it is declared with a spin.
+    #[inline]
+    pub fn spun_drag(&self) -> Option<&MachDrag> {
+        self.mach_drag.as_ref().filter(|d| d.spin.is_some())
     }
 
     /// Whether a declared term may add mechanical energy (a game's own, a motor): then the
@@ -378,7 +382,7 @@ impl Forces {
     /// only then does the step fill it.
     #[inline]
     pub fn reads_launch(&self) -> bool {
-        self.thrust.is_some() || self.mach_drag.as_ref().is_some_and(|d| d.spin.is_some())
+        self.thrust.is_some() || self.spun_drag().is_some()
     }
 
     /// `part(t, w)`, the force on a body of mass `w.m`, or with a motor declared that force

@@ -425,27 +425,10 @@ impl World {
 
     /// The Magnus lift (N) on body `i` now, if a spun Mach drag is active.
     pub fn lift_on(&self, i: usize) -> Option<DVec3> {
-        let d = self
-            .state
-            .forces
-            .mach_drag
-            .as_ref()
-            .filter(|d| d.spin.is_some())?;
+        let d = self.state.forces.spun_drag()?;
         let b = &self.state.bodies;
         let (_, lift) = d.spun_parts(self.time(), b.p.get(i), self.velocity(i), b.mass_of(i));
         Some(lift)
-    }
-
-    /// Body `i`'s spin (rad/s) now, decayed since its launch, if a spun Mach drag is active.
-    pub fn spin_of(&self, i: usize) -> Option<DVec3> {
-        let d = self
-            .state
-            .forces
-            .mach_drag
-            .as_ref()
-            .filter(|d| d.spin.is_some())?;
-        let b = &self.state.bodies;
-        Some(d.spin_at(self.time(), b.p.get(i), self.velocity(i), b.launch(i)))
     }
 
     /// The thrust (N) on body `i` now, if a motor is active.
