@@ -70,8 +70,18 @@ impl Stiffness {
         self.w2_lin + self.w2_nl == 0.0 && self.k() == 0.0
     }
 
-    /// The stiffness of a body of mass `m` launched at `v0` from `p0` under the scene's forces.
+    /// The stiffness of a body of mass `m` launched at `v0` from `p0` under the scene's forces,
+    /// without spin.
     pub fn of_body(scene: &Scene, m: f64, p0: DVec3, v0: DVec3) -> Stiffness {
+        Stiffness::of_spinning(scene, m, p0, v0, 0.0)
+    }
+
+    /// [`Stiffness::of_body`] for a body spinning at `spin` rad/s at launch: a spun Mach drag
+    /// counts the spin's drag at that rate and the largest lift coefficient its model reaches
+    /// (as S grows without bound) as more drag coefficient, an upper bound on both. A motor
+    /// adds no stiffness (its thrust reads no state but the velocity's direction) and is left
+    /// out.
+    pub fn of_spinning(scene: &Scene, m: f64, p0: DVec3, v0: DVec3, spin: f64) -> Stiffness {
         let f = &scene.forces;
         let mut s = Stiffness {
             k_lin: f.drag_rate(m),
@@ -97,7 +107,18 @@ impl Stiffness {
         if let Some(d) = &f.mach_drag {
             // As quadratic drag with the curve's largest coefficient at the ground's density,
             // at the larger of the speed through the air at launch and the terminal speed.
-            let q = d.worst_quadratic_rate(m);
+            let mut q = d.worst_quadratic_rate(m);
+            if let (Some(sp), crate::forces::DragSize::Diameter { diameter, .. }) = (d.spin, d.size)
+            {
+                let (density, _) = d.air.at(0.0);
+                let lift = if spin > 0.0 {
+                    sp.lift.max_coefficient()
+                } else {
+                    0.0
+                };
+                let extra = sp.drag_per_spin * spin + lift;
+                q += (std::f64::consts::PI / 8.0) * diameter * diameter * density * extra / m;
+            }
             let g = f.gravity.unwrap_or(DVec3::ZERO).length();
             let terminal = if q > 0.0 { (g / q).sqrt() } else { 0.0 };
             let air_speed = (v0 - d.wind_at(p0.z)).length();
@@ -202,7 +223,7 @@ pub fn check_at(scene: &Scene, dt: f64, substeps: u32, chosen: Integrator) -> St
         .bodies
         .iter()
         .chain(std::iter::once(&launcher))
-        .map(|b| Stiffness::of_body(scene, b.mass, b.position, b.velocity))
+        .map(|b| Stiffness::of_spinning(scene, b.mass, b.position, b.velocity, b.spin.length()))
         .collect();
     let allowed = Integrator::ALL
         .into_iter()

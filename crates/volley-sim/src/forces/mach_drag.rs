@@ -192,6 +192,13 @@ pub enum LiftModel {
 }
 
 impl LiftModel {
+    /// The largest lift coefficient the model reaches, as `S` grows without bound.
+    pub fn max_coefficient(self) -> f64 {
+        match self {
+            LiftModel::Nathan => 1.120 / 2.333,
+        }
+    }
+
     /// The lift coefficient at spin parameter `s`.
     #[inline]
     pub fn coefficient(self, s: f64) -> f64 {

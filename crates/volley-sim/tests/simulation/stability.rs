@@ -206,3 +206,38 @@ fn a_step_exactly_on_the_oscillator_limit_is_called_unstable_and_diverges() {
     assert!(warnings.contains("on its edge"), "{warnings}");
     assert!(warnings.contains("fix: --substeps 2"), "{warnings}");
 }
+
+/// A spun ball's pre-check counts the spin's drag at its launch spin and the lift model's
+/// largest coefficient as more drag: `rho pi d^2 / (8 m) (k omega + 1.120 / 2.333)` on top of
+/// the curve's own rate, times the same speed.
+#[test]
+fn the_pre_check_counts_a_spins_drag_and_lift_as_more_drag() {
+    let ball = load("baseball");
+    let b = &ball.bodies[0];
+    let still = Stiffness::of_body(&ball, b.mass, b.position, b.velocity);
+    let spun = Stiffness::of_spinning(&ball, b.mass, b.position, b.velocity, b.spin.length());
+    let d = ball.forces.mach_drag.as_ref().unwrap();
+    let sp = d.spin.unwrap();
+    let (rho, _) = d.air.at(0.0);
+    let extra = std::f64::consts::PI / 8.0
+        * 0.07378
+        * 0.07378
+        * rho
+        * (sp.drag_per_spin * b.spin.length() + 1.120 / 2.333)
+        / b.mass;
+    let speed = b.velocity.length();
+    assert!(
+        ((spun.k() - still.k()) - extra * speed).abs() <= 1e-12 * spun.k(),
+        "{} vs {}",
+        spun.k() - still.k(),
+        extra * speed
+    );
+    // The scene's own report uses it: the bundled ball at 60 Hz is stable for RK4.
+    let report = stability::check(&ball);
+    let rk4 = report
+        .verdicts
+        .iter()
+        .find(|v| v.integrator == Rk4)
+        .unwrap();
+    assert!(rk4.stable, "{report:?}");
+}
