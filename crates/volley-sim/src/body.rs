@@ -251,6 +251,9 @@ pub const COLUMNS: [Column; 14] = {
 /// How many of [`COLUMNS`], from the first, the state hash covers.
 pub const HASHED_COLUMNS: usize = 8;
 
+/// Where the [`Launch`] columns sit in [`COLUMNS`]: the last five.
+pub const LAUNCH_COLUMNS: std::ops::Range<usize> = 9..14;
+
 impl Bodies {
     /// Number of bodies.
     pub fn len(&self) -> usize {
@@ -435,6 +438,31 @@ impl Bodies {
             13 => &mut self.spin.z,
             _ => unreachable!("COLUMNS has 14 entries"),
         }
+    }
+
+    /// Whether every body's launch is the canonical one a world whose terms never read it
+    /// gives (time 0, the mass column's mass, no spin), bit for bit: then a keyframe leaves the
+    /// launch columns out.
+    pub fn launch_is_canonical(&self) -> bool {
+        (0..self.len()).all(|i| {
+            self.launch_time[i].to_bits() == 0
+                && self.launch_mass[i].to_bits() == self.mass[i].to_bits()
+                && [self.spin.x[i], self.spin.y[i], self.spin.z[i]]
+                    .iter()
+                    .all(|x| x.to_bits() == 0)
+        })
+    }
+
+    /// Sets every body's launch to the canonical one ([`Bodies::launch_is_canonical`]).
+    pub(crate) fn canonical_launch(&mut self) {
+        let n = self.len();
+        self.launch_time.clear();
+        self.launch_time.resize(n, 0.0);
+        self.launch_mass.clone_from(&self.mass);
+        self.spin.x.clear();
+        self.spin.y.clear();
+        self.spin.z.clear();
+        self.spin.resize(n);
     }
 
     /// Whether every column has one entry per id.

@@ -353,7 +353,7 @@ impl Forces {
             f += d.spun_force(t, p, v, w);
         }
         if let Some(c) = &self.custom {
-            f += c.force(t, p, v, w.m);
+            f += c.force(t, p, v, w);
         }
         f
     }
@@ -378,11 +378,41 @@ impl Forces {
         self.custom.is_some() || self.reads_launch()
     }
 
+    /// Whether no declared term reads the clock or the launch: then [`ForceModel::force`] is
+    /// the whole force, and the general model's evaluation is what it was before such terms.
+    #[inline(always)]
+    fn untimed(&self) -> bool {
+        self.custom.is_none()
+            && self.thrust.is_none()
+            && self.mach_drag.as_ref().is_none_or(|d| d.spin.is_none())
+    }
+
+    /// [`ForceModel::force_at`] with a term that reads the clock or the launch: out of line, so
+    /// the scenes without one keep a small inlined evaluation.
+    #[inline(never)]
+    fn timed_force(&self, t: f64, p: DVec3, v: DVec3, w: Mass) -> DVec3 {
+        self.with_motor(t, v, w, |w| {
+            self.plus_timed(self.force(p, v, w.m), t, p, v, w)
+        })
+    }
+
+    /// [`ForceModel::nonlinear_force_at`] with such a term, out of line.
+    #[inline(never)]
+    fn timed_nonlinear_force(&self, t: f64, p: DVec3, v: DVec3, w: Mass) -> DVec3 {
+        if self.thrust.is_some() {
+            // With a motor everything is explicit: the scaling is not linear in (p, v).
+            return self.timed_force(t, p, v, w);
+        }
+        self.plus_timed(self.nonlinear_force(p, v, w.m), t, p, v, w)
+    }
+
     /// Whether any declared term reads a body's [`crate::body::Launch`] (a spin, a motor):
     /// only then does the step fill it.
     #[inline]
     pub fn reads_launch(&self) -> bool {
-        self.thrust.is_some() || self.spun_drag().is_some()
+        self.thrust.is_some()
+            || self.spun_drag().is_some()
+            || self.custom.as_ref().is_some_and(|c| c.0.reads_launch())
     }
 
     /// `part(t, w)`, the force on a body of mass `w.m`, or with a motor declared that force
@@ -443,18 +473,20 @@ impl ForceModel for Forces {
 
     #[inline]
     fn force_at(&self, t: f64, p: DVec3, v: DVec3, w: Mass) -> DVec3 {
-        self.with_motor(t, v, w, |w| {
-            self.plus_timed(self.force(p, v, w.m), t, p, v, w)
-        })
+        if self.untimed() {
+            self.force(p, v, w.m)
+        } else {
+            self.timed_force(t, p, v, w)
+        }
     }
 
     #[inline]
     fn nonlinear_force_at(&self, t: f64, p: DVec3, v: DVec3, w: Mass) -> DVec3 {
-        if self.thrust.is_some() {
-            // With a motor everything is explicit: the scaling is not linear in (p, v).
-            return self.force_at(t, p, v, w);
+        if self.untimed() {
+            self.nonlinear_force(p, v, w.m)
+        } else {
+            self.timed_nonlinear_force(t, p, v, w)
         }
-        self.plus_timed(self.nonlinear_force(p, v, w.m), t, p, v, w)
     }
 
     fn velocity_dependent(&self) -> bool {

@@ -242,10 +242,20 @@ impl World {
     pub fn spawn(&mut self, spec: &BodySpec) -> BodyId {
         let id = BodyId(self.state.next_id);
         self.state.next_id += 1;
-        let launch = crate::body::Launch {
-            time: self.time(),
-            mass: spec.mass,
-            spin: spec.spin,
+        // A world whose declared terms never read a launch keeps the canonical one (time 0,
+        // no spin), so its keyframes leave the launch columns out.
+        let launch = if self.params.declared.reads_launch() {
+            crate::body::Launch {
+                time: self.time(),
+                mass: spec.mass,
+                spin: spec.spin,
+            }
+        } else {
+            crate::body::Launch {
+                time: 0.0,
+                mass: spec.mass,
+                spin: DVec3::ZERO,
+            }
         };
         self.state
             .bodies

@@ -42,6 +42,27 @@ pub trait ForceTerm: Send + Sync + std::fmt::Debug {
     fn velocity_dependent(&self) -> bool {
         true
     }
+    /// Force (N) on a body launched as `launch` says ([`crate::integrate::Launch`]: the
+    /// world's time at its launch, its mass then, its spin then): the body's own extra state,
+    /// for a term that needs its time since launch (a game's own motor, a fuse) or its spin.
+    /// What Volley calls; the default is [`ForceTerm::force`]. A term that overrides it must
+    /// also return true from [`ForceTerm::reads_launch`], or the launch it gets is zero.
+    fn force_launched(
+        &self,
+        t: f64,
+        p: DVec3,
+        v: DVec3,
+        m: f64,
+        launch: &crate::body::Launch,
+    ) -> DVec3 {
+        let _ = launch;
+        self.force(t, p, v, m)
+    }
+    /// Whether [`ForceTerm::force_launched`] reads the launch (default false): only then does
+    /// a step load the bodies' launch columns.
+    fn reads_launch(&self) -> bool {
+        false
+    }
 }
 
 /// A declared custom term: the shared term itself. Equal when it is the same registered term
@@ -56,10 +77,11 @@ impl PartialEq for CustomForce {
 }
 
 impl CustomForce {
-    /// Force (N), as [`ForceTerm::force`].
+    /// Force (N) on a body of mass `w.m` launched as `w.launch` says, as
+    /// [`ForceTerm::force_launched`].
     #[inline]
-    pub fn force(&self, t: f64, p: DVec3, v: DVec3, m: f64) -> DVec3 {
-        self.0.force(t, p, v, m)
+    pub fn force(&self, t: f64, p: DVec3, v: DVec3, w: crate::body::Mass) -> DVec3 {
+        self.0.force_launched(t, p, v, w.m, &w.launch)
     }
 }
 

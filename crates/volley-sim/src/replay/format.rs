@@ -104,7 +104,7 @@ impl Kind {
             Kind::Header => 2..=(64 << 20),
             // A keyframe of the most bodies a world may hold, with a carried force.
             Kind::Keyframe => {
-                let most = super::keyframe::keyframe_len(crate::scene::MAX_BODIES, true);
+                let most = super::keyframe::keyframe_len(crate::scene::MAX_BODIES, true, true);
                 super::keyframe::KEYFRAME_FIXED as u32..=most.expect("fits a frame")
             }
             Kind::Command => 9..=4096,
@@ -374,11 +374,13 @@ pub enum DecodeError {
     DivergenceFlag(u8),
     /// A keyframe's integrator tag is no known integrator.
     IntegratorTag(u8),
-    /// A keyframe's force mask has bits beyond the known terms, or its carry flag is not 0 or
-    /// 1.
+    /// A keyframe's force mask has bits beyond the known terms, or its carry or launch flag is
+    /// not 0 or 1.
     MaskOrCarry {
         /// The force mask.
         mask: u16,
+        /// The launch flag.
+        launch: u8,
         /// The carry flag.
         carry: u8,
     },
@@ -404,9 +406,14 @@ impl std::fmt::Display for DecodeError {
             DecodeError::DivergenceCause(c) => write!(f, "unknown divergence cause {c}"),
             DecodeError::DivergenceFlag(x) => write!(f, "divergence flag {x}, expected 0 or 1"),
             DecodeError::IntegratorTag(t) => write!(f, "unknown integrator tag {t}"),
-            DecodeError::MaskOrCarry { mask, carry } => {
-                write!(f, "force mask {mask:#x} or carry flag {carry} out of range")
-            }
+            DecodeError::MaskOrCarry {
+                mask,
+                carry,
+                launch,
+            } => write!(
+                f,
+                "force mask {mask:#x}, carry flag {carry} or launch flag {launch} out of range"
+            ),
             DecodeError::UndeclaredForce(kind) => {
                 write!(f, "force term {} is active but not declared", kind.name())
             }

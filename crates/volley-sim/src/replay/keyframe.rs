@@ -4,6 +4,7 @@ use std::io::{self, Write};
 
 use glam::DVec3;
 
+use crate::body::LAUNCH_COLUMNS;
 use crate::forces::{ForceKind, Forces};
 use crate::integrate::Integrator;
 use crate::scene::Launcher;
@@ -14,31 +15,37 @@ use super::format::{
 };
 
 /// Bytes of a keyframe before its body arrays.
-pub const KEYFRAME_FIXED: usize = 3 * 8 + 4 + 10 * 8 + 8 + 8;
+pub const KEYFRAME_FIXED: usize = 3 * 8 + 5 + 10 * 8 + 8 + 8;
 
-/// Bytes per body in a keyframe: the id and one float per column ([`COLUMNS`]), plus 3 with a
-/// carried force.
-fn per_body(carry: bool) -> usize {
-    (1 + COLUMNS.len() + if carry { 3 } else { 0 }) * 8
+/// Bytes per body in a keyframe: the id and one float per column ([`COLUMNS`]; without the
+/// launch columns when every launch is canonical), plus 3 with a carried force.
+fn per_body(carry: bool, launch: bool) -> usize {
+    let columns = COLUMNS.len() - if launch { 0 } else { LAUNCH_COLUMNS.len() };
+    (1 + columns + if carry { 3 } else { 0 }) * 8
 }
 
-/// Payload length of a keyframe of `n` bodies, if it fits a frame.
-pub fn keyframe_len(n: usize, carry: bool) -> Option<u32> {
-    n.checked_mul(per_body(carry))
+/// Payload length of a keyframe of `n` bodies, with a carried force and the launch columns or
+/// not, if it fits a frame.
+pub fn keyframe_len(n: usize, carry: bool, launch: bool) -> Option<u32> {
+    n.checked_mul(per_body(carry, launch))
         .and_then(|b| b.checked_add(KEYFRAME_FIXED))
         .and_then(|l| u32::try_from(l).ok())
 }
 
 /// Writes a keyframe frame, streaming the body arrays through the CRC: no allocation.
 ///
-/// Payload: `tick next_id rng:u64  integrator:u8 forces_mask:u16 has_carry:u8  launcher
+/// Payload: `tick next_id rng:u64  integrator:u8 forces_mask:u16 has_carry:u8 has_launch:u8
+/// launcher
 /// (position xyz, speed, elevation, azimuth, mass, radius, backspin, sidespin):10 f64
 /// force_evals n:u64`, then arrays of n: ids, then every column of [`COLUMNS`] in its order
-/// (p, mV, mass, radius, energy_cap, launch time and mass, spin), and carry x y z if has_carry.
+/// (p, mV, mass, radius, energy_cap, and launch time and mass and spin if has_launch: left out
+/// when every body's launch is canonical, [`crate::body::Bodies::launch_is_canonical`]), and
+/// carry x y z if has_carry.
 pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
     let carry = !s.carry.is_empty();
+    let launch = !s.bodies.launch_is_canonical();
     let n = s.bodies.id.len();
-    let len = keyframe_len(n, carry).ok_or_else(|| {
+    let len = keyframe_len(n, carry, launch).ok_or_else(|| {
         io::Error::other(format!(
             "a keyframe of {n} bodies is too large for format v{FORMAT_VERSION}"
         ))
@@ -57,7 +64,8 @@ pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
     fixed
         .u8(integrator.unwrap_or(0) as u8)
         .u16(mask)
-        .u8(carry as u8);
+        .u8(carry as u8)
+        .u8(launch as u8);
     for x in [
         l.position.x,
         l.position.y,
@@ -72,7 +80,10 @@ pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
     fixed.u64(s.force_evals).u64(n as u64);
     w.put(fixed.bytes())?;
     w.words(s.bodies.id.iter().map(|id| id.0))?;
-    for column in &COLUMNS {
+    for column in COLUMNS
+        .iter()
+        .filter(|c| launch || !LAUNCH_COLUMNS.contains(&c.index))
+    {
         w.words(column.get(&s.bodies).iter().map(|x| x.to_bits()))?;
     }
     if carry {
@@ -94,12 +105,16 @@ pub fn decode_keyframe(
 ) -> Result<(), DecodeError> {
     let mut r = Reader::new(payload);
     (s.tick, s.next_id, s.rng) = (r.u64()?, r.u64()?, SplitMix64(r.u64()?));
-    let (integrator, mask, carry) = (r.u8()?, r.u16()?, r.u8()?);
+    let (integrator, mask, carry, launch) = (r.u8()?, r.u16()?, r.u8()?, r.u8()?);
     s.integrator = *Integrator::ALL
         .get(usize::from(integrator))
         .ok_or(DecodeError::IntegratorTag(integrator))?;
-    if mask >> ForceKind::ALL.len() != 0 || carry > 1 {
-        return Err(DecodeError::MaskOrCarry { mask, carry });
+    if mask >> ForceKind::ALL.len() != 0 || carry > 1 || launch > 1 {
+        return Err(DecodeError::MaskOrCarry {
+            mask,
+            carry,
+            launch,
+        });
     }
     let active = |k: ForceKind| mask & (1 << (k as u16)) != 0;
     if let Some(k) = ForceKind::ALL
@@ -127,7 +142,7 @@ pub fn decode_keyframe(
     let n = r.u64()?;
     let expected = usize::try_from(n)
         .ok()
-        .and_then(|n| keyframe_len(n, carry == 1))
+        .and_then(|n| keyframe_len(n, carry == 1, launch == 1))
         .filter(|&l| l as usize == payload.len())
         .ok_or(DecodeError::BodyCount {
             bodies: n,
@@ -141,10 +156,16 @@ pub fn decode_keyframe(
     if !b.id.windows(2).all(|w| w[0] < w[1]) {
         return Err(DecodeError::IdsNotIncreasing);
     }
-    for column in &COLUMNS {
+    for column in COLUMNS
+        .iter()
+        .filter(|c| launch == 1 || !LAUNCH_COLUMNS.contains(&c.index))
+    {
         let a = column.get_mut(b);
         a.clear();
         a.extend(r.take_u64s(n)?.map(f64::from_bits));
+    }
+    if launch == 0 {
+        b.canonical_launch();
     }
     b.recompute_inv_mass();
     if carry == 1 {

@@ -110,7 +110,7 @@ pub const BUNDLED: &[(&str, &str)] = &[
 /// assert_eq!(scene.name, "seed");
 /// let unknown = volley_sim::scene::bundled("no_such_scene").unwrap_err();
 /// assert!(unknown.to_string().starts_with(
-///     "no_such_scene: no bundled scene of that name (bundled: bench/drag, bench/gravity,"
+///     "no_such_scene: no bundled scene of that name (bundled: baseball, bench/drag,"
 /// ));
 /// ```
 pub fn bundled(name: &str) -> Result<Scene, SceneError> {

@@ -376,9 +376,9 @@ fn a_keyframe_field_the_hash_does_not_cover_is_still_compared() {
         .iter_mut()
         .find(|f| f.kind == 2 && f.payload[..8] == 100u64.to_le_bytes())
         .unwrap();
-    // Launcher speed: after tick, next_id, rng (3 x 8), the integrator, force mask (2 bytes)
-    // and carry tags, the muzzle position (3 x 8).
-    keyframe_100.payload[52..60].copy_from_slice(&99.0f64.to_bits().to_le_bytes());
+    // Launcher speed: after tick, next_id, rng (3 x 8), the integrator, force mask (2 bytes),
+    // carry and launch tags, the muzzle position (3 x 8).
+    keyframe_100.payload[53..61].copy_from_slice(&99.0f64.to_bits().to_le_bytes());
     let d = replay(&assemble(&frames), None)
         .first_divergence()
         .cloned()
@@ -403,9 +403,9 @@ fn a_force_evaluation_count_that_differs_is_a_warning_not_a_divergence() {
         .iter_mut()
         .find(|f| f.kind == 2 && f.payload[..8] == 50u64.to_le_bytes())
         .unwrap();
-    // force_evals: after the 28 bytes of ticks, ids and tags and the 10 launcher floats.
-    let evals = u64::from_le_bytes(keyframe_50.payload[108..116].try_into().unwrap());
-    keyframe_50.payload[108..116].copy_from_slice(&(evals + 5).to_le_bytes());
+    // force_evals: after the 29 bytes of ticks, ids and tags and the 10 launcher floats.
+    let evals = u64::from_le_bytes(keyframe_50.payload[109..117].try_into().unwrap());
+    keyframe_50.payload[109..117].copy_from_slice(&(evals + 5).to_le_bytes());
     let replay = replay(&assemble(&frames), None);
     assert!(replay.first_divergence().is_none());
     let (tick, f) = replay.force_evals_differ().unwrap();

@@ -219,3 +219,67 @@ fn exact_refuses_any_custom_term_and_forest_ruth_a_velocity_dependent_one() {
     // A position-only term is Forest-Ruth's to step: order 4 on the swing.
     parse(swing, "ForestRuth").unwrap();
 }
+
+/// A game's own motor that reads each body's own clock: `m a (1 - age / 0.5)` along +x for the
+/// first 0.5 s after the body's launch, nothing after (`ForceTerm::force_launched` with the
+/// launch).
+#[derive(Debug)]
+struct Fuse;
+
+impl ForceTerm for Fuse {
+    fn name(&self) -> &str {
+        "test/fuse"
+    }
+    fn version(&self) -> u32 {
+        1
+    }
+    fn force(&self, _t: f64, _p: DVec3, _v: DVec3, _m: f64) -> DVec3 {
+        unreachable!("Volley calls force_launched for a term that reads the launch")
+    }
+    fn force_launched(
+        &self,
+        t: f64,
+        _p: DVec3,
+        _v: DVec3,
+        m: f64,
+        launch: &volley_sim::integrate::Launch,
+    ) -> DVec3 {
+        let age = t - launch.time;
+        DVec3::new(m * 4.0 * (1.0 - age / 0.5).max(0.0), 0.0, 0.0)
+    }
+    fn velocity_dependent(&self) -> bool {
+        false
+    }
+    fn reads_launch(&self) -> bool {
+        true
+    }
+}
+
+/// Two bodies launched 0.3 s apart (the scene's at 0, a `fire` at 0.3 s) each get their own
+/// 0.5 s of push: 4 m/s^2 falling straight to 0, 1 m/s each, whenever it started. At 0.01 s
+/// ticks the push's kink falls on a tick and it is linear in time inside every step, where
+/// RK4's stages are Simpson's rule, exact for it (to rounding).
+#[test]
+fn a_term_that_reads_the_launch_pushes_each_body_on_its_own_clock() {
+    register(Arc::new(Fuse));
+    let text = "Scene(dt: 0.01, integrator: Rk4, forces: [Custom(name: \"test/fuse\", version: 1)],
+                  bodies: [(mass: 2, position: (0, 0, 0))],
+                  launcher: (position: (0, 5, 0), speed: 0, elevation_deg: 0, azimuth_deg: 0,
+                             mass: 0.5))";
+    let scene = scene::parse(text, "fuse.ron", "fuse").unwrap();
+    let mut world = World::new(&scene);
+    world.step_ticks(30).unwrap();
+    world.apply(&volley_sim::Command::Fire).unwrap();
+    world.step_ticks(100).unwrap();
+    let b = world.bodies();
+    assert_eq!(b.launch(1).time, world.time_of(30));
+    for i in 0..2 {
+        assert!(
+            (world.velocity(i).x - 1.0).abs() < 1e-12,
+            "body {i}: {}",
+            world.velocity(i)
+        );
+    }
+    // Had the term read the world's clock, the second body would have got 0.2 s of the
+    // push's tail: 0.16 m/s.
+}

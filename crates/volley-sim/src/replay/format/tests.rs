@@ -44,10 +44,11 @@ fn error_messages_are_pinned() {
         (DecodeError::IntegratorTag(7), "unknown integrator tag 7"),
         (
             DecodeError::MaskOrCarry {
-                mask: 0x40,
+                mask: 0x400,
                 carry: 0,
+                launch: 2,
             },
-            "force mask 0x40 or carry flag 0 out of range",
+            "force mask 0x400, carry flag 0 or launch flag 2 out of range",
         ),
         (
             DecodeError::UndeclaredForce(ForceKind::Spring),
