@@ -24,7 +24,8 @@
 //!   [`Scene`] from a file ([`load_scene`], [`parse_scene`]), a bundled one ([`bundled_scene`])
 //!   or code ([`Scene::builder`]); its parts [`BodySpec`], [`Launcher`], [`Volley`], [`Guard`];
 //!   forces ([`Forces`], [`ForceKind`], [`Spring`], [`PointMass`], [`MachDrag`] with its
-//!   [`DragTable`] and [`Atmosphere`]); contacts ([`Ground`],
+//!   [`DragTable`], [`Atmosphere`] and [`SpinLift`], a motor's [`Thrust`], a game's own
+//!   [`ForceTerm`]); contacts ([`Ground`],
 //!   [`Wall`], [`Target`], [`Detection`]) and what they report ([`Event`], [`EventKind`]).
 //! - **The loop**: [`SimLoop`] and its [`TickObserver`]s, the [`FixedClock`] with its
 //!   [`LoopPolicy`], frame sources ([`RealClock`], [`VirtualClock`]), and where to draw between
@@ -33,7 +34,8 @@
 //!   ([`parse_script`]).
 //! - **Checking a run**: [`state_hash`], recordings ([`Recorder`], [`Recording`]) and their
 //!   [`Replay`], the rewinding [`Timeline`].
-//! - **Aim**: [`solve_aim`], launches that hit in the simulation as stepped.
+//! - **Aim**: [`solve_aim`], launches that hit in the simulation as stepped, and a rifle's
+//!   zero with its [`holdover`] table.
 //!
 //! docs/library.md walks through them. The modules behind these names are public for Volley's
 //! own window, CLI, tests, benches and fuzz targets, and hidden from these docs: they hold the
@@ -132,8 +134,10 @@ pub use clock::{
 pub use command::{Command, CommandError, CommandParseError, ScriptError, Stamped, parse_script};
 pub use contact::{Detection, Event, EventKind, Ground, Surface, Target, Wall};
 pub use drag::DragTable;
-pub use firing::{FiringError, Mode as AimMode, Range as AimRange, Shot, solve as solve_aim};
-pub use forces::{ForceKind, Forces, MachDrag, PointMass, Spring};
+pub use firing::{
+    FiringError, Holdover, Mode as AimMode, Range as AimRange, Shot, holdover, solve as solve_aim,
+};
+pub use forces::{ForceKind, ForceTerm, Forces, MachDrag, PointMass, SpinLift, Spring, Thrust};
 pub use hash::state_hash;
 pub use integrate::Integrator;
 pub use pacing::{DEFAULT_DRAW, DEFAULT_POLICY, DrawMode};
