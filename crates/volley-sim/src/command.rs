@@ -202,15 +202,10 @@ impl World {
                     });
                 }
                 let candidate = if enabled {
-                    let only = declared.filtered(|k| k == kind);
-                    let mut f = self.state.forces.clone();
-                    f.gravity = f.gravity.or(only.gravity);
-                    f.constant = f.constant.or(only.constant);
-                    f.linear_drag = f.linear_drag.or(only.linear_drag);
-                    f.quadratic_drag = f.quadratic_drag.or(only.quadratic_drag);
-                    f.spring = f.spring.or(only.spring);
-                    f.point_mass = f.point_mass.or(only.point_mass);
-                    f
+                    // The declared terms that are on, and this one: every kind, so a term added
+                    // later cannot be forgotten here.
+                    let active = &self.state.forces;
+                    declared.filtered(|k| k == kind || active.has(k))
                 } else {
                     self.state.forces.clone().without(kind)
                 };

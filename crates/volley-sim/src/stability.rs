@@ -78,9 +78,9 @@ impl Stiffness {
 
     /// [`Stiffness::of_body`] for a body spinning at `spin` rad/s at launch: a spun Mach drag
     /// counts the spin's drag at that rate and the largest lift coefficient its model reaches
-    /// (as S grows without bound) as more drag coefficient, an upper bound on both. A motor
-    /// adds no stiffness (its thrust reads no state but the velocity's direction) and is left
-    /// out.
+    /// (as S grows without bound) as more drag coefficient, an upper bound on both. A motor is
+    /// left out: it judges the launch state, and a motor that speeds the body up and burns its
+    /// mass away raises the drag's rate past it (for a rocket the verdict is a lower bound).
     pub fn of_spinning(scene: &Scene, m: f64, p0: DVec3, v0: DVec3, spin: f64) -> Stiffness {
         let f = &scene.forces;
         let mut s = Stiffness {

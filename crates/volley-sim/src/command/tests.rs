@@ -196,3 +196,30 @@ fn error_messages_are_pinned() {
         }
     );
 }
+
+#[test]
+fn every_kind_of_term_switches_off_and_back_on() {
+    let text = "Scene(dt: 0.01, integrator: Rk4, forces: [Gravity((0, 0, -9.81)),
+        MachDrag(curve: Table([(0, 0.3), (1, 0.3)]), diameter: 0.07, spin: ()),
+        Thrust(curve: [(0, 1), (1, 0)], propellant: 0.01)],
+        bodies: [(mass: 0.1, position: (0, 0, 0))])";
+    let scene = crate::scene::parse(text, "x.ron", "x").unwrap();
+    let mut world = World::new(&scene);
+    for kind in [ForceKind::MachDrag, ForceKind::Thrust, ForceKind::Gravity] {
+        world
+            .apply(&Command::SetForce {
+                kind,
+                enabled: false,
+            })
+            .unwrap();
+        assert!(!world.forces().has(kind), "{kind:?} off");
+        world
+            .apply(&Command::SetForce {
+                kind,
+                enabled: true,
+            })
+            .unwrap();
+        assert!(world.forces().has(kind), "{kind:?} back on");
+    }
+    assert_eq!(world.forces(), &scene.forces, "every term back as declared");
+}

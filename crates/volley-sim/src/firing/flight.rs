@@ -54,7 +54,7 @@ pub(super) fn closest_approach(range: &Range, v0: DVec3, duration: f64) -> Optio
         let partial = Partial {
             s,
             carry,
-            w: stepped.w,
+            w: stepped.mass_for(v0),
             t: stepped.t0 + j as f64 * hs,
             tau: t - j as f64 * hs,
         };

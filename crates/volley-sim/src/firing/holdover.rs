@@ -76,7 +76,11 @@ pub fn holdover(
         let shots = solve(&r, Mode::Speed(scene.launcher.speed))?;
         // The low arc; a lone solution (at the edge of reach) is both.
         let low = shots.iter().find(|s| s.kind == ShotKind::Arc(Arc::Low));
-        Ok(*low.unwrap_or(&shots[0]))
+        low.or(shots.first()).copied().ok_or_else(|| {
+            FiringError::Invalid(format!(
+                "no launch at the launcher's speed reaches {range} m"
+            ))
+        })
     };
     let zero_shot = hit(zero)?;
     let rows = ranges

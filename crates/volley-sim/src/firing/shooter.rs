@@ -17,7 +17,9 @@ pub(super) struct Stepped<'a> {
     /// The shot's mass; its spin follows the launch's azimuth ([`Stepped::mass_for`]).
     pub(super) w: Mass,
     pub(super) hs: f64,
-    /// The launch on the world's clock: the scene's start time.
+    /// The launch on the world's clock: 0, as the world check ([`flight_world`]) flies the
+    /// shot from a scene started at 0, so a term that reads the clock sees the same times in
+    /// both.
     pub(super) t0: f64,
 }
 
@@ -30,7 +32,7 @@ impl<'a> Stepped<'a> {
             tolerance: range.scene.tolerance,
             w: Mass::new(range.mass),
             hs: range.sub_step(),
-            t0: range.scene.start_time,
+            t0: 0.0,
         }
     }
 

@@ -1,4 +1,4 @@
-//! Recording format version 3: the preamble, the frame, and each record's payload.
+//! Recording format version 4: the preamble, the frame, and each record's payload.
 //!
 //! ```text
 //! file      = preamble frame*
@@ -32,7 +32,8 @@
 //!
 //! Version 1 (never released outside this repository) had one 16-byte hash record per tick;
 //! version 2 had an 8-bit force mask (8 kinds), no launcher spin and no launch columns in its
-//! keyframes. This build refuses both as other format versions.
+//! keyframes; version 3 (two commits of one session) always wrote the launch columns, with no
+//! flag. This build refuses all three as other format versions.
 
 use std::io::{self, Write};
 
@@ -46,7 +47,7 @@ use crate::world::{BodyId, Divergence, DivergenceCause};
 /// mode transfer that rewrites bytes is caught at once).
 pub const MAGIC: [u8; 8] = *b"\x89VOLLEY\n";
 /// The format version this build writes and the only one it reads.
-pub const FORMAT_VERSION: u32 = 3;
+pub const FORMAT_VERSION: u32 = 4;
 /// Bytes before the first frame: magic and version.
 pub const PREAMBLE_LEN: usize = 12;
 /// Bytes of a frame head: kind, length, head check.

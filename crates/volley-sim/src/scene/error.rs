@@ -100,6 +100,8 @@ pub enum ValueProblem {
     DragSize,
     /// A custom force term this program has not registered.
     Custom(crate::forces::CustomForceError),
+    /// A standard atmosphere's ground altitude outside -1000 m to 20 000 m.
+    Altitude(f64),
     /// A thrust curve that is not one.
     ThrustCurve(crate::forces::ThrustCurveError),
     /// A spin on a Mach drag sized by a ballistic coefficient (the lift needs the diameter).
@@ -164,6 +166,9 @@ impl std::fmt::Display for ValueProblem {
             ValueProblem::DragTable(e) => write!(f, "{e}"),
             ValueProblem::Custom(e) => write!(f, "{e}"),
             ValueProblem::ThrustCurve(e) => write!(f, "{e}"),
+            ValueProblem::Altitude(x) => {
+                write!(f, "expected an altitude from -1000 m to 20000 m, got {x}")
+            }
             ValueProblem::SpinNeedsDiameter => f.write_str(
                 "a spin's lift needs the body's `diameter` (m), not a ballistic coefficient",
             ),

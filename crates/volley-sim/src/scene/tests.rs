@@ -301,6 +301,11 @@ fn bad_mach_drag_values_name_the_field() {
             "> 0",
         ),
         (
+            "MachDrag(curve: G1, bc: 0.2, air: Standard(ground: -6.3e6))",
+            "forces[1].air.ground",
+            "from -1000 m to 20000 m",
+        ),
+        (
             "MachDrag(curve: G1, bc: 0.2, wind: (velocity: (1, 0, 0), reference_height: 0))",
             "forces[1].wind.reference_height",
             "> 0",

@@ -349,6 +349,14 @@ fn validate_mach_drag(field: &str, raw: &RawMachDrag) -> Result<MachDrag, Invali
             pressure,
         } => {
             let ground = finite(&format!("{field}.air.ground"), ground)?;
+            // The column is tabulated from 1 km below the ground to 30 km up: a ground far
+            // below sea level would make it a table of millions of nodes.
+            if !(-1000.0..=20_000.0).contains(&ground) {
+                return Err(invalid(
+                    format!("{field}.air.ground"),
+                    ValueProblem::Altitude(ground),
+                ));
+            }
             let temperature = temperature
                 .map(|t| positive(&format!("{field}.air.temperature"), t))
                 .transpose()?;

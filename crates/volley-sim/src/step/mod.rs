@@ -73,6 +73,7 @@ impl World {
             return;
         };
         let b = &mut self.state.bodies;
+        let mut burnt = false;
         for i in 0..b.len() {
             let m1 = motor.mass_at(t1 - b.launch_time[i], b.launch_mass[i]);
             if m1 != b.mass[i] {
@@ -80,7 +81,12 @@ impl World {
                 b.mass[i] = m1;
                 b.inv_mass[i] = 1.0 / m1;
                 b.mv.set(i, m1 * v);
+                burnt = true;
             }
+        }
+        // Velocity Verlet's carried force was scaled to the old mass: evaluate it afresh.
+        if burnt {
+            self.carry_valid = false;
         }
     }
 

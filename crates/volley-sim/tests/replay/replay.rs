@@ -614,22 +614,26 @@ fn wrong_magic_another_format_version_or_an_unparsable_scene_is_a_one_line_error
     let mut magic = bytes.clone();
     magic[1] = b'X';
     let mut newer = bytes.clone();
-    newer[8..12].copy_from_slice(&4u32.to_le_bytes());
+    newer[8..12].copy_from_slice(&5u32.to_le_bytes());
     let mut older = bytes.clone();
     older[8..12].copy_from_slice(&0u32.to_le_bytes());
     // Version 1 stored one record per hash; its files are refused, not misread.
     // Version 2 had an 8-bit force mask and no launch columns: refused too.
     let mut version_2 = bytes.clone();
     version_2[8..12].copy_from_slice(&2u32.to_le_bytes());
+    // Version 3 wrote the launch columns with no flag.
+    let mut version_3 = bytes.clone();
+    version_3[8..12].copy_from_slice(&3u32.to_le_bytes());
     let mut version_1 = bytes.clone();
     version_1[8..12].copy_from_slice(&1u32.to_le_bytes());
     let cases = [
         (magic, "not a Volley recording (wrong magic bytes)"),
         (
             newer,
-            "format version 4 is newer than the one this build reads (3)",
+            "format version 5 is newer than the one this build reads (4)",
         ),
         (version_2, "format version 2 is older"),
+        (version_3, "format version 3 is older"),
         (older, "format version 0 is older"),
         (version_1, "format version 1 is older"),
         (bytes[..5].to_vec(), "wrong magic"),
