@@ -58,7 +58,7 @@ fn order(curve: &str, interpolation: &str, integrator: Integrator) -> f64 {
 const SMOOTH: &str = "Table([(0, 0.5934), (5, 0.5934)])";
 
 #[test]
-fn the_transonic_kinks_cap_rk4s_order_and_leave_second_order_methods_alone() {
+fn the_transonic_kinks_cap_rk4s_order_and_leave_the_lower_order_methods_alone() {
     // RK4: 4 on the smooth control, at most 3 over PCHIP, at most 2 over straight lines.
     let rk4 = |curve, interpolation| order(curve, interpolation, Integrator::Rk4);
     let smooth = rk4(SMOOTH, "Linear");
@@ -70,17 +70,22 @@ fn the_transonic_kinks_cap_rk4s_order_and_leave_second_order_methods_alone() {
         (1.7..2.7).contains(&linear),
         "RK4, straight lines: {linear}"
     );
-    // Velocity Verlet and semi-implicit Euler are of order 2 and 1: no kink caps them lower.
+    // Every other integrator that takes a Mach drag is of order 2 or 1: no kink caps it lower
+    // (Dormand-Prince is adaptive: the test below; exact and Forest-Ruth refuse the term).
     for (integrator, p) in [
-        (Integrator::VelocityVerlet, 2.0),
+        (Integrator::ExplicitEuler, 1.0),
         (Integrator::SemiImplicitEuler, 1.0),
+        (Integrator::ImplicitEuler, 1.0),
+        (Integrator::VelocityVerlet, 2.0),
+        (Integrator::Midpoint, 2.0),
+        (Integrator::ImplicitMidpoint, 2.0),
     ] {
         for (curve, interpolation) in [(SMOOTH, "Linear"), ("G1", "Pchip"), ("G1", "Linear")] {
             let q = order(curve, interpolation, integrator);
-            assert!(
-                (q - p).abs() < 0.3,
-                "{integrator} on {curve} {interpolation}: {q}"
-            );
+            // The theory's bound is one-sided: a kink cannot lower an order of 2 or 1, but over
+            // straight lines its O(h^2) adds to a second-order method's own and the two can
+            // cancel before the asymptote (the midpoint rule shows 2.96 between 8 and 4 ms).
+            assert!(q > p - 0.3, "{integrator} on {curve} {interpolation}: {q}");
         }
     }
 }
