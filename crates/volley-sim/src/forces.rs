@@ -16,10 +16,12 @@ use serde::{Deserialize, Serialize};
 use crate::body::Mass;
 
 mod custom;
+mod fast_path;
 mod mach_drag;
 mod thrust;
 
 pub use custom::{CustomForce, CustomForceError, ForceTerm, register, resolve};
+pub use fast_path::{ConstantField, DragField};
 pub use mach_drag::{
     AirModel, DragCurve, DragSize, KG_M2_PER_LB_IN2, LiftModel, MachDrag, NATHAN_DECAY_SPEED,
     RAD_S_PER_RPM, SpinDecay, SpinLift, Wind,
@@ -617,122 +619,6 @@ fn point_mass_force(pm: &PointMass, p: DVec3, m: f64) -> DVec3 {
     let r2 = d.length_squared();
     let r = r2.sqrt();
     (-m * pm.mu / (r2 * r)) * d
-}
-
-/// Gravity plus a constant force, nothing else: the cheapest model, chosen automatically.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ConstantField {
-    /// Gravitational acceleration (m/s^2); zero if undeclared.
-    pub gravity: DVec3,
-    /// Constant force (N); zero if undeclared.
-    pub force: DVec3,
-}
-
-impl ForceModel for ConstantField {
-    #[inline(always)]
-    fn force(&self, _p: DVec3, _v: DVec3, m: f64) -> DVec3 {
-        m * self.gravity + self.force
-    }
-
-    fn velocity_dependent(&self) -> bool {
-        false
-    }
-
-    #[inline(always)]
-    fn linear_part(&self, m: f64) -> LinearPart {
-        LinearPart {
-            a0: self.gravity + self.force / m,
-            kd: 0.0,
-            w2: 0.0,
-            anchor: DVec3::ZERO,
-        }
-    }
-
-    #[inline(always)]
-    fn nonlinear_force(&self, _p: DVec3, _v: DVec3, _m: f64) -> DVec3 {
-        DVec3::ZERO
-    }
-
-    fn energy(&self, p: DVec3, v: DVec3, m: f64) -> f64 {
-        0.5 * m * v.length_squared() - m * self.gravity.dot(p) - self.force.dot(p)
-    }
-}
-
-/// Gravity and linear drag, plus a constant force when `CONSTANT`, nothing else: the model of
-/// drag scenes, chosen automatically like [`ConstantField`].
-///
-/// Its force is [`Forces::force`] for exactly these terms, the same operations in the same
-/// order, so results are bit-identical; it only drops the per-body tests of which terms are
-/// declared, which keep the general loop from vectorising.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DragField<const CONSTANT: bool> {
-    forces: Forces,
-    gravity: DVec3,
-    constant: DVec3,
-    drag: f64,
-}
-
-impl<const CONSTANT: bool> DragField<CONSTANT> {
-    /// `forces` as this model, if they are gravity, linear drag and (exactly when `CONSTANT`) a
-    /// constant force.
-    pub fn of(forces: &Forces) -> Option<DragField<CONSTANT>> {
-        let (Some(gravity), Some(drag)) = (forces.gravity, forces.linear_drag) else {
-            return None;
-        };
-        let others = forces.quadratic_drag.is_some()
-            || forces.spring.is_some()
-            || forces.point_mass.is_some()
-            || forces.mach_drag.is_some()
-            || forces.custom.is_some()
-            || forces.thrust.is_some();
-        (forces.constant.is_some() == CONSTANT && !others).then(|| DragField {
-            forces: forces.clone(),
-            gravity,
-            constant: forces.constant.unwrap_or(DVec3::ZERO),
-            drag,
-        })
-    }
-}
-
-impl<const CONSTANT: bool> ForceModel for DragField<CONSTANT> {
-    #[inline(always)]
-    fn force(&self, _p: DVec3, v: DVec3, m: f64) -> DVec3 {
-        let mut f = DVec3::ZERO;
-        f += m * self.gravity;
-        if CONSTANT {
-            f += self.constant;
-        }
-        f -= self.drag * v;
-        f
-    }
-
-    fn velocity_dependent(&self) -> bool {
-        true
-    }
-
-    #[inline(always)]
-    fn linear_part(&self, m: f64) -> LinearPart {
-        let mut a0 = DVec3::ZERO;
-        a0 += self.gravity;
-        if CONSTANT {
-            a0 += self.constant / m;
-        }
-        LinearPart {
-            a0,
-            kd: self.drag / m,
-            w2: 0.0,
-            anchor: DVec3::ZERO,
-        }
-    }
-
-    #[inline(always)]
-    fn nonlinear_force(&self, _p: DVec3, _v: DVec3, _m: f64) -> DVec3 {
-        DVec3::ZERO
-    }
-
-    fn energy(&self, p: DVec3, v: DVec3, m: f64) -> f64 {
-        self.forces.energy(p, v, m)
-    }
 }
 
 #[cfg(test)]
