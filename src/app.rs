@@ -269,7 +269,7 @@ pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummar
     let ran = event_loop.run_app(&mut app);
     app.session.stop_recording("the window closed");
     ran.map_err(|e| AppError::NoDisplay(e.to_string()))?;
-    app.outcome.clone()?;
+    app.ending.clone().unwrap_or(Ok(()))?;
     let median = |v: &mut Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v.get(v.len() / 2).copied()
@@ -355,13 +355,16 @@ struct App {
     drill: Option<SurfaceDrill>,
     /// A screenshot asked for by its key, written after the next frame.
     screenshot: Option<PathBuf>,
-    /// Close at the end of this event.
-    quit: bool,
-    /// Why the window stopped, if it failed.
-    outcome: Result<(), AppError>,
+    /// How the window ends, once it is asked to: closed (`Ok`) or failed; `None` while it runs.
+    ending: Option<Result<(), AppError>>,
 }
 
 impl App {
+    /// Asks the window to close after this event, keeping a failure already recorded.
+    fn quit(&mut self) {
+        self.ending.get_or_insert(Ok(()));
+    }
+
     fn new(mut session: Session, options: WindowOptions) -> App {
         if options.history_budget != session.history_budget() {
             session.set_history_budget(options.history_budget);
@@ -396,8 +399,7 @@ impl App {
             screenshot: None,
             script,
             drill: options.surface_drill.then(SurfaceDrill::default),
-            quit: false,
-            outcome: Ok(()),
+            ending: None,
             options,
         };
         app.rewatch();
@@ -691,7 +693,7 @@ impl ApplicationHandler for App {
             return;
         }
         if let Err(e) = self.open(event_loop) {
-            self.outcome = Err(e);
+            self.ending = Some(Err(e));
             event_loop.exit();
             return;
         }
@@ -699,7 +701,7 @@ impl ApplicationHandler for App {
         if let Some(path) = self.options.record.take()
             && let Err(e) = self.session.start_recording(Some(path))
         {
-            self.outcome = Err(AppError::Io(e));
+            self.ending = Some(Err(AppError::Io(e)));
             event_loop.exit();
         }
     }
@@ -717,7 +719,7 @@ impl ApplicationHandler for App {
         };
         let consumed = egui_state.on_window_event(&window, &event).consumed;
         match &event {
-            WindowEvent::CloseRequested => self.quit = true,
+            WindowEvent::CloseRequested => self.quit(),
             WindowEvent::Resized(size) => {
                 if let Some(gfx) = self.host.gfx.as_mut() {
                     gfx.resize(size.width, size.height);
@@ -735,13 +737,13 @@ impl ApplicationHandler for App {
             }
             _ => self.on_pointer(&event, consumed || self.host.egui.is_pointer_over_egui()),
         }
-        if self.quit {
+        if self.ending.is_some() {
             event_loop.exit();
         }
     }
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
-        if self.quit {
+        if self.ending.is_some() {
             event_loop.exit();
             return;
         }

@@ -122,7 +122,7 @@ impl App {
                 let tick = s.world().tick();
                 self.screenshot = Some(PathBuf::from(format!("volley-tick{tick}.png")));
             }
-            Action::Quit => self.quit = true,
+            Action::Quit => self.quit(),
         }
     }
 

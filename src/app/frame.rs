@@ -127,11 +127,10 @@ impl App {
         if let Some(path) = path
             && let Err(e) = self.capture(&path, ui)
         {
-            self.outcome = Err(AppError::Io(e));
-            self.quit = true;
+            self.ending = Some(Err(AppError::Io(e)));
         }
         if done {
-            self.quit = true;
+            self.quit();
         }
     }
 
