@@ -7,11 +7,11 @@
 
 use std::path::Path;
 
-use volley_sim::clock::VirtualClock;
-use volley_sim::command::parse_script;
-use volley_sim::integrate::Integrator;
-use volley_sim::replay::{FlushPolicy, RecordOptions, Recorder};
-use volley_sim::scene::{self, CompareLane, Scene};
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::command::parse_script;
+use volley_sim::internals::integrate::Integrator;
+use volley_sim::internals::replay::{FlushPolicy, RecordOptions, Recorder};
+use volley_sim::internals::scene::{self, CompareLane, Scene};
 use volley_sim::{SimLoop, World};
 
 fn main() {
@@ -81,7 +81,7 @@ fn record(
     scene: &Scene,
     from: u64,
     to: u64,
-    commands: &[volley_sim::command::Stamped],
+    commands: &[volley_sim::internals::command::Stamped],
     hash_every: u64,
     keyframe_every: u64,
 ) -> Vec<u8> {

@@ -18,20 +18,21 @@
 
 use std::io::Cursor;
 
-use volley_sim::command::{Command, parse_script};
-use volley_sim::pacing::{DisplayTiming, read_capture};
-use volley_sim::replay::format::{CRC_LEN, HEAD_LEN, PREAMBLE_LEN, head_check};
-use volley_sim::replay::{Recording, Replay};
-use volley_sim::scene::{self, Scene};
-use volley_sim::study::shard::{ShardResult, merge};
-use volley_sim::{World, hash};
+use volley_sim::World;
+use volley_sim::internals::command::{Command, parse_script};
+use volley_sim::internals::hash;
+use volley_sim::internals::pacing::{DisplayTiming, read_capture};
+use volley_sim::internals::replay::format::{CRC_LEN, HEAD_LEN, PREAMBLE_LEN, head_check};
+use volley_sim::internals::replay::{Recording, Replay};
+use volley_sim::internals::scene::{self, Scene};
+use volley_sim::internals::study::shard::{ShardResult, merge};
 
 /// Most bodies [`scene`] builds a world for (more are parsed and validated, not built).
 pub const MAX_FUZZ_BODIES: usize = 4096;
 /// Most body-steps (bodies × substeps × ticks) one input is stepped for.
 pub const MAX_FUZZ_BODY_STEPS: u64 = 200_000;
 /// Most force evaluations one input is stepped for, checked after each tick: an adaptive step
-/// may take up to [`volley_sim::integrate::DOPRI_MAX_ATTEMPTS`] attempts, so body-steps alone
+/// may take up to [`volley_sim::internals::integrate::DOPRI_MAX_ATTEMPTS`] attempts, so body-steps alone
 /// do not bound its work.
 pub const MAX_FUZZ_EVALS: u64 = 5_000_000;
 /// Ticks a validated scene is stepped for, within [`MAX_FUZZ_BODY_STEPS`].
@@ -285,7 +286,7 @@ pub fn shard(data: &[u8]) {
 /// same text and reads again, and merging it alone never panics (it is refused unless it is
 /// the whole sweep, and then gives one row per job).
 pub fn pacing_shard(data: &[u8]) {
-    use volley_sim::pacing::shard::{PacingShard, merge as merge_pacing};
+    use volley_sim::internals::pacing::shard::{PacingShard, merge as merge_pacing};
     let Some(text) = text(data) else { return };
     if let Ok(part) = PacingShard::from_json(text, "fuzz.json") {
         let back = PacingShard::from_json(&part.to_json(), "back.json")
@@ -299,9 +300,9 @@ pub fn pacing_shard(data: &[u8]) {
 
 /// **PresentMon captures** (the loop lab's `--display FILE.csv`): read for the application with
 /// the most rows, and for `dwm.exe` by name; a capture that reads holds at most
-/// [`volley_sim::pacing::capture::MAX_CAPTURE_PRESENTS`] presents, its `sampled` times never
+/// [`volley_sim::internals::pacing::capture::MAX_CAPTURE_PRESENTS`] presents, its `sampled` times never
 /// decrease from 0, and every display time is at or after its present and within
-/// [`volley_sim::pacing::capture::MAX_CAPTURE_SPAN`] of the first.
+/// [`volley_sim::internals::pacing::capture::MAX_CAPTURE_SPAN`] of the first.
 pub fn capture(data: &[u8]) {
     let Some(text) = text(data) else { return };
     for application in [None, Some("dwm.exe")] {
@@ -312,7 +313,7 @@ pub fn capture(data: &[u8]) {
 }
 
 fn check_timing(timing: &DisplayTiming) {
-    use volley_sim::pacing::capture::{MAX_CAPTURE_PRESENTS, MAX_CAPTURE_SPAN};
+    use volley_sim::internals::pacing::capture::{MAX_CAPTURE_PRESENTS, MAX_CAPTURE_SPAN};
     assert!(
         timing.name.starts_with("fuzz.csv ("),
         "a capture's name is its file and application: {}",

@@ -57,7 +57,7 @@ fn scene_regressions() {
     // The two saved-setup findings of the first run stay in the corpus, beside a Mach drag
     // with every field the reader accepts and one it must refuse.
     reader_sorts("scene", |text, name| {
-        volley_sim::scene::parse(text, name, "fuzz").is_ok()
+        volley_sim::internals::scene::parse(text, name, "fuzz").is_ok()
     });
     assert!(replay("scene", volley_fuzz::scene) >= 4);
 }
@@ -87,7 +87,7 @@ fn reader_sorts(target: &str, reads: fn(&str, &str) -> bool) {
 #[test]
 fn command_regressions() {
     reader_sorts("commands", |text, name| {
-        volley_sim::command::parse_script(text, name).is_ok()
+        volley_sim::internals::command::parse_script(text, name).is_ok()
     });
     replay("commands", volley_fuzz::commands);
 }
@@ -109,7 +109,7 @@ fn window_script_regressions() {
 #[test]
 fn shard_regressions() {
     reader_sorts("shard", |text, name| {
-        volley_sim::study::shard::ShardResult::from_json(text, name).is_ok()
+        volley_sim::internals::study::shard::ShardResult::from_json(text, name).is_ok()
     });
     replay("shard", volley_fuzz::shard);
 }
@@ -117,7 +117,7 @@ fn shard_regressions() {
 #[test]
 fn pacing_shard_regressions() {
     reader_sorts("pacing_shard", |text, name| {
-        volley_sim::pacing::shard::PacingShard::from_json(text, name).is_ok()
+        volley_sim::internals::pacing::shard::PacingShard::from_json(text, name).is_ok()
     });
     replay("pacing_shard", volley_fuzz::pacing_shard);
 }
@@ -134,8 +134,8 @@ fn capture_regressions() {
 #[test]
 fn properties_hold_on_the_valid_seeds() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    for (name, text) in volley_sim::scene::BUNDLED {
-        let scene = volley_sim::scene::parse(text, name, name).unwrap();
+    for (name, text) in volley_sim::internals::scene::BUNDLED {
+        let scene = volley_sim::internals::scene::parse(text, name, name).unwrap();
         volley_fuzz::take_evals();
         volley_fuzz::scene(text.as_bytes());
         let stepped = volley_fuzz::take_evals() > 0;
@@ -164,7 +164,7 @@ fn properties_hold_on_the_valid_seeds() {
     );
     let capture =
         std::fs::read_to_string(root.join("assets/captures/presentmon_test_case_4.csv")).unwrap();
-    volley_sim::pacing::read_capture(&capture, "presentmon_test_case_4.csv", None)
+    volley_sim::internals::pacing::read_capture(&capture, "presentmon_test_case_4.csv", None)
         .expect("the shipped capture reads");
     volley_fuzz::capture(capture.as_bytes());
 }

@@ -12,8 +12,8 @@
 use std::sync::Arc;
 
 use glam::DVec3;
-use volley_sim::forces::{ForceTerm, register};
 use volley_sim::{EventKind, Integrator, World, parse_scene, state_hash};
+use volley_sim::{ForceTerm, register_force_term};
 
 /// The game's arrow: drag `F = -(rho / 2) Cd(|v|) A |v| v` with its own curve, a coefficient that
 /// rises as the arrow slows and starts to yaw (a made-up fit a game might tune by eye), and
@@ -46,7 +46,7 @@ impl ForceTerm for ArrowDrag {
 }
 
 fn main() {
-    register(Arc::new(ArrowDrag { area: 5.0e-5 }));
+    register_force_term(Arc::new(ArrowDrag { area: 5.0e-5 }));
     for integrator in [Integrator::SemiImplicitEuler, Integrator::Rk4] {
         let scene = parse_scene(
             &format!(

@@ -198,7 +198,7 @@ impl std::error::Error for AimError {}
 /// is the earlier arrival.
 ///
 /// ```
-/// use volley_sim::exact::aim;
+/// use volley_sim::internals::exact::aim;
 /// use glam::DVec3;
 /// let [high, low] = aim(DVec3::new(10.0, 0.0, 2.0), DVec3::new(50.0, 0.0, 20.0), 30.0, 9.81).unwrap();
 /// assert_eq!(format!("{:.2} {:.2}", high.elevation_deg, low.elevation_deg), "75.17 39.06");

@@ -213,11 +213,11 @@ pub struct Shot {
 /// (and the textbook aim) in a world.
 ///
 /// ```
-/// use volley_sim::{firing, scene};
-/// let scene = scene::bundled("drag").unwrap();
-/// let mut range = firing::Range::new(&scene, scene::bundled("seed").unwrap().targets[0]);
+/// use volley_sim::{AimMode, AimRange, bundled_scene, solve_aim};
+/// let scene = bundled_scene("drag").unwrap();
+/// let mut range = AimRange::new(&scene, bundled_scene("seed").unwrap().targets[0]);
 /// range.from = glam::DVec3::new(10.0, 0.0, 2.0);
-/// let shots = firing::solve(&range, firing::Mode::Speed(30.0)).unwrap();
+/// let shots = solve_aim(&range, AimMode::Speed(30.0)).unwrap();
 /// assert_eq!(shots.len(), 2);
 /// assert!(shots.iter().all(|s| s.miss < 1e-9));
 /// ```

@@ -71,17 +71,17 @@ const BLOCK: usize = 64;
 /// any machine, vector width and thread count:
 ///
 /// ```
-/// use volley_sim::{World, hash, scene};
+/// use volley_sim::{World, bundled_scene, state_hash};
 ///
-/// let scene = scene::bundled("seed").unwrap();
+/// let scene = bundled_scene("seed").unwrap();
 /// let (mut a, mut b) = (World::new(&scene), World::new(&scene));
 /// b.set_threads(2);
 /// a.step_ticks(20).unwrap();
 /// for _ in 0..20 {
 ///     b.step().unwrap();
 /// }
-/// assert_eq!(hash::state_hash(&a), hash::state_hash(&b));
-/// assert_eq!(hash::hex(hash::state_hash(&a)).len(), 18); // 0x and 16 hex digits
+/// assert_eq!(state_hash(&a), state_hash(&b));
+/// assert_eq!(volley_sim::internals::hash::hex(state_hash(&a)).len(), 18); // 0x and 16 hex digits
 /// ```
 pub fn state_hash(world: &World) -> u64 {
     match world.bodies().len() {

@@ -65,7 +65,7 @@ pub enum Integrator {
     /// Global order 1; 1 force evaluation plus a scalar solve. Unconditionally stable on the
     /// linear terms (it damps an oscillator and decays drag monotonically at any step).
     ImplicitEuler,
-    /// The closed-form solution, evaluated over each step ([`crate::exact`]). No force
+    /// The closed-form solution, evaluated over each step (the `exact` module). No force
     /// evaluations.
     ///
     /// Exact on every linear scene (gravity, constant force, linear drag and a zero-rest-length

@@ -25,7 +25,7 @@
 //!   or code ([`Scene::builder`]); its parts [`BodySpec`], [`Launcher`], [`Volley`], [`Guard`];
 //!   forces ([`Forces`], [`ForceKind`], [`Spring`], [`PointMass`], [`MachDrag`] with its
 //!   [`DragTable`], [`Atmosphere`] and [`SpinLift`], a motor's [`Thrust`], a game's own
-//!   [`ForceTerm`]); contacts ([`Ground`],
+//!   [`ForceTerm`] with [`register_force_term`]); contacts ([`Ground`],
 //!   [`Wall`], [`Target`], [`Detection`]) and what they report ([`Event`], [`EventKind`]).
 //! - **The loop**: [`SimLoop`] and its [`TickObserver`]s, the [`FixedClock`] with its
 //!   [`LoopPolicy`], frame sources ([`RealClock`], [`VirtualClock`]), and where to draw between
@@ -37,11 +37,11 @@
 //! - **Aim**: [`solve_aim`], launches that hit in the simulation as stepped, and a rifle's
 //!   zero with its [`holdover`] table.
 //!
-//! docs/library.md walks through them. The modules behind these names are public for Volley's
-//! own window, CLI, tests, benches and fuzz targets, and hidden from these docs: they hold the
-//! internals (per-body columns, vector widths, the step's chunking, the study, the stability
-//! pre-check, the loop lab's sweep) and their performance knobs, which are not part of the
-//! surface a game should build on. Their layers are in docs/contributing.md.
+//! docs/library.md walks through them. The modules behind these names are private. Volley's own
+//! window, CLI, tests, benches and fuzz targets reach them through one hidden module,
+//! `volley_sim::internals`: the per-body columns, vector widths, the step's chunking, the study,
+//! the stability pre-check, the loop lab's sweep and their performance knobs, which are not part
+//! of the surface a game should build on. Their layers are in docs/contributing.md.
 //!
 //! ```
 //! use volley_sim::{SimLoop, VirtualClock, World, bundled_scene};
@@ -58,72 +58,151 @@
 
 // 1. Plain data with no dependency inside the crate: ids, per-body state and columns; the
 //    world's one seeded generator; CPU-feature dispatch for the per-body loops.
-#[doc(hidden)]
-pub mod body;
-#[doc(hidden)]
-pub mod rng;
-#[doc(hidden)]
-pub mod simd;
+mod body;
+mod rng;
+mod simd;
 
 // 2. Physics, each on the ones before it: the standard atmosphere, drag against Mach, the
 //    declared force terms (only those are evaluated); closed forms, launch solutions, times of impact; the integrators; ground, walls, targets.
-#[doc(hidden)]
-pub mod atmosphere;
-#[doc(hidden)]
-pub mod drag;
-#[doc(hidden)]
-pub mod forces;
+mod atmosphere;
+mod drag;
+mod forces;
 
-#[doc(hidden)]
-pub mod exact;
+mod exact;
 
-#[doc(hidden)]
-pub mod integrate;
+mod integrate;
 
-#[doc(hidden)]
-pub mod contact;
+mod contact;
 
 // 3. What a run is made of: the validated scene; the world (state, parameters, scratch); one
 //    tick as named stages.
-#[doc(hidden)]
-pub mod scene;
+mod scene;
 
-#[doc(hidden)]
-pub mod world;
+mod world;
 
-#[doc(hidden)]
-pub mod step;
+mod step;
 
 // 4. Around a tick: commands applied at tick boundaries, the canonical state hash, the
 //    fixed-timestep clock.
-#[doc(hidden)]
-pub mod clock;
-#[doc(hidden)]
-pub mod command;
-#[doc(hidden)]
-pub mod hash;
+mod clock;
+mod command;
+mod hash;
 
 // 5. The one loop every mode runs; `TickObserver` is its only seam.
-#[doc(hidden)]
-pub mod sim_loop;
+mod sim_loop;
 
 // 6. What runs on the loop: the state table, recordings and replays, the study, the stability
 //    pre-check, firing solutions solved on the stepped trajectory, the in-memory history for
 //    rewinding.
+mod firing;
+mod pacing;
+mod replay;
+mod stability;
+mod study;
+mod table;
+mod timeline;
+
+/// Volley's own internals, for its window, CLI, tests, benches and fuzz targets: every module
+/// behind the names above, with the per-body columns, vector widths, the step's chunking, the
+/// study, the stability pre-check and the loop lab's sweep, and their performance knobs.
+///
+/// Not part of the surface a game builds on: paths here change without notice. A game that
+/// finds itself reaching in for something is telling us the root lacks it.
 #[doc(hidden)]
-pub mod firing;
-#[doc(hidden)]
-pub mod pacing;
-#[doc(hidden)]
-pub mod replay;
-#[doc(hidden)]
-pub mod stability;
-#[doc(hidden)]
-pub mod study;
-#[doc(hidden)]
-pub mod table;
-#[doc(hidden)]
-pub mod timeline;
+pub mod internals {
+    pub mod body {
+        //! Re-exported from the private module of that name.
+        pub use crate::body::*;
+    }
+    pub mod rng {
+        //! Re-exported from the private module of that name.
+        pub use crate::rng::*;
+    }
+    pub mod simd {
+        //! Re-exported from the private module of that name.
+        pub use crate::simd::*;
+    }
+    pub mod atmosphere {
+        //! Re-exported from the private module of that name.
+        pub use crate::atmosphere::*;
+    }
+    pub mod drag {
+        //! Re-exported from the private module of that name.
+        pub use crate::drag::*;
+    }
+    pub mod forces {
+        //! Re-exported from the private module of that name.
+        pub use crate::forces::*;
+    }
+    pub mod exact {
+        //! Re-exported from the private module of that name.
+        pub use crate::exact::*;
+    }
+    pub mod integrate {
+        //! Re-exported from the private module of that name.
+        pub use crate::integrate::*;
+    }
+    pub mod contact {
+        //! Re-exported from the private module of that name.
+        pub use crate::contact::*;
+    }
+    pub mod scene {
+        //! Re-exported from the private module of that name.
+        pub use crate::scene::*;
+    }
+    pub mod world {
+        //! Re-exported from the private module of that name.
+        pub use crate::world::*;
+    }
+    pub mod step {
+        //! Re-exported from the private module of that name.
+        pub use crate::step::*;
+    }
+    pub mod clock {
+        //! Re-exported from the private module of that name.
+        pub use crate::clock::*;
+    }
+    pub mod command {
+        //! Re-exported from the private module of that name.
+        pub use crate::command::*;
+    }
+    pub mod hash {
+        //! Re-exported from the private module of that name.
+        pub use crate::hash::*;
+    }
+    pub mod sim_loop {
+        //! Re-exported from the private module of that name.
+        pub use crate::sim_loop::*;
+    }
+    pub mod firing {
+        //! Re-exported from the private module of that name.
+        pub use crate::firing::*;
+    }
+    pub mod pacing {
+        //! Re-exported from the private module of that name.
+        pub use crate::pacing::*;
+    }
+    pub mod replay {
+        //! Re-exported from the private module of that name.
+        pub use crate::replay::*;
+    }
+    pub mod stability {
+        //! Re-exported from the private module of that name.
+        pub use crate::stability::*;
+    }
+    pub mod study {
+        //! Re-exported from the private module of that name.
+        pub use crate::study::*;
+    }
+    pub mod table {
+        //! Re-exported from the private module of that name.
+        pub use crate::table::*;
+    }
+    pub mod timeline {
+        //! Re-exported from the private module of that name.
+        pub use crate::timeline::*;
+    }
+}
 
 // The game-facing surface (the crate doc lists it by purpose).
 pub use atmosphere::Atmosphere;
@@ -137,7 +216,10 @@ pub use drag::DragTable;
 pub use firing::{
     FiringError, Holdover, Mode as AimMode, Range as AimRange, Shot, holdover, solve as solve_aim,
 };
-pub use forces::{ForceKind, ForceTerm, Forces, MachDrag, PointMass, SpinLift, Spring, Thrust};
+pub use forces::{
+    ForceKind, ForceTerm, Forces, MachDrag, PointMass, SpinLift, Spring, Thrust,
+    register as register_force_term,
+};
 pub use hash::state_hash;
 pub use integrate::Integrator;
 pub use pacing::{DEFAULT_DRAW, DEFAULT_POLICY, DrawMode};

@@ -313,7 +313,7 @@ pub struct Volley {
     pub angle_spread_deg: f64,
 }
 
-/// Settings of the divergence guard (see [`crate::step`]).
+/// Settings of the divergence guard (the stepping code checks it after every tick).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Guard {

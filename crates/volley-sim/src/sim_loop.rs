@@ -224,9 +224,9 @@ impl SimLoop {
     ///
     /// ```
     /// use std::time::Duration;
-    /// use volley_sim::{Command, SimLoop, World, scene};
+    /// use volley_sim::{Command, SimLoop, World, parse_scene};
     ///
-    /// let scene = scene::parse(
+    /// let scene = parse_scene(
     ///     "Scene(dt: 0.016666667, integrator: SemiImplicitEuler, forces: [Gravity((0, 0, -9.81))])",
     ///     "game.ron", "game").unwrap();
     /// let mut sim = SimLoop::new(World::new(&scene));

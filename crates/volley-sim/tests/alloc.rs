@@ -16,9 +16,9 @@ use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
-use volley_sim::replay::{FlushPolicy, RecordOptions, Recorder};
-use volley_sim::scene::{self, Scene};
-use volley_sim::step::PARALLEL_MIN_CHUNK;
+use volley_sim::internals::replay::{FlushPolicy, RecordOptions, Recorder};
+use volley_sim::internals::scene::{self, Scene};
+use volley_sim::internals::step::PARALLEL_MIN_CHUNK;
 use volley_sim::{Integrator, SimLoop, World};
 
 struct Counting;

@@ -123,7 +123,7 @@ impl std::fmt::Display for CustomForceError {
             CustomForceError::Unknown { name, version } => write!(
                 f,
                 "custom force term `{name}` (version {version}) is not registered in this \
-                 program: it runs only in the game that provides it (volley_sim::forces::register)"
+                 program: it runs only in the game that provides it (volley_sim::register_force_term)"
             ),
             CustomForceError::OtherVersion {
                 name,

@@ -18,10 +18,11 @@
 //!   window replays through it with its own frame deltas).
 //!
 //! ```
-//! use volley_sim::replay::{RecordOptions, Recorder, Recording, Replay};
-//! use volley_sim::{SimLoop, World, clock::VirtualClock, scene};
+//! use volley_sim::{
+//!     RecordOptions, Recorder, Recording, Replay, SimLoop, VirtualClock, World, bundled_scene,
+//! };
 //!
-//! let scene = scene::bundled("seed").unwrap();
+//! let scene = bundled_scene("seed").unwrap();
 //! let mut sim = SimLoop::new(World::new(&scene));
 //! let mut recorder = Recorder::start(Vec::new(), &sim.world, RecordOptions::default()).unwrap();
 //! sim.run_until(27, &mut VirtualClock::Steady(scene.timestep), &mut recorder).unwrap();

@@ -27,8 +27,7 @@ impl Scene {
     ///
     /// ```
     /// use glam::DVec3;
-    /// use volley_sim::scene::{BodySpec, Scene};
-    /// use volley_sim::contact::Ground;
+    /// use volley_sim::{BodySpec, Ground, Scene};
     /// use volley_sim::Integrator;
     ///
     /// let scene = Scene::builder("shot", 1.0 / 60.0)
@@ -46,7 +45,7 @@ impl Scene {
     ///     .build()?;
     /// assert_eq!(scene.bodies.len(), 1);
     /// // The source is a scene file that reads back to the same scene.
-    /// let again = volley_sim::scene::parse(&scene.source, "again.ron", "shot")?;
+    /// let again = volley_sim::parse_scene(&scene.source, "again.ron", "shot")?;
     /// assert_eq!(again.to_ron(), scene.to_ron());
     ///
     /// // A bad value is the error a file would give, naming the field.
@@ -209,7 +208,7 @@ impl SceneBuilder {
             field: Some(e.field),
         })?;
         let text = format!(
-            "// The scene `{}`, built in code with volley_sim::scene::SceneBuilder.\n{}\n",
+            "// The scene `{}`, built in code with volley_sim::SceneBuilder.\n{}\n",
             scene.name.escape_debug(),
             scene.ron_body()
         );

@@ -106,9 +106,9 @@ pub const BUNDLED: &[(&str, &str)] = &[
 /// name, and it has no position or field).
 ///
 /// ```
-/// let scene = volley_sim::scene::bundled("seed").unwrap();
+/// let scene = volley_sim::bundled_scene("seed").unwrap();
 /// assert_eq!(scene.name, "seed");
-/// let unknown = volley_sim::scene::bundled("no_such_scene").unwrap_err();
+/// let unknown = volley_sim::bundled_scene("no_such_scene").unwrap_err();
 /// assert!(unknown.to_string().starts_with(
 ///     "no_such_scene: no bundled scene of that name (bundled: baseball, bench/drag,"
 /// ));

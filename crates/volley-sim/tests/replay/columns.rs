@@ -3,12 +3,13 @@
 //! says (the hash for the first `HASHED_COLUMNS`, the diff by the column's name, the keyframe's
 //! bytes always), and a keyframe round trip gives every column back.
 
-use volley_sim::body::{COLUMNS, HASHED_COLUMNS};
-use volley_sim::hash::state_hash;
-use volley_sim::replay::diff::diff;
-use volley_sim::replay::format::{CRC_LEN, HEAD_LEN};
-use volley_sim::replay::keyframe::{decode_keyframe, encode_keyframe};
-use volley_sim::{SimLoop, World, clock::VirtualClock};
+use volley_sim::internals::body::{COLUMNS, HASHED_COLUMNS};
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::hash::state_hash;
+use volley_sim::internals::replay::diff::diff;
+use volley_sim::internals::replay::format::{CRC_LEN, HEAD_LEN};
+use volley_sim::internals::replay::keyframe::{decode_keyframe, encode_keyframe};
+use volley_sim::{SimLoop, World};
 
 fn world() -> World {
     let scene = crate::replay_support::coverage_scene();

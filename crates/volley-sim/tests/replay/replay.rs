@@ -4,10 +4,11 @@
 use std::time::Duration;
 
 use crate::replay_support::*;
-use volley_sim::clock::VirtualClock;
-use volley_sim::hash::state_hash;
-use volley_sim::replay::{FlushPolicy, Mismatch, Recorder, Value};
-use volley_sim::{Integrator, Scene, SimLoop, World, scene};
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::hash::state_hash;
+use volley_sim::internals::replay::{FlushPolicy, Mismatch, Recorder, Value};
+use volley_sim::internals::scene;
+use volley_sim::{Integrator, Scene, SimLoop, World};
 
 /// Three bodies under gravity and linear drag, no contacts: semi-implicit Euler updates the
 /// momentum from the velocity alone, so a nudge of one body's `p.x` stays in that one field.
@@ -30,7 +31,7 @@ fn record_nudged(
     scene: &Scene,
     ticks: u64,
     nudge: u64,
-    opts: volley_sim::replay::RecordOptions,
+    opts: volley_sim::internals::replay::RecordOptions,
 ) -> Vec<u8> {
     let mut sim = SimLoop::new(World::new(scene));
     let mut source = VirtualClock::Steady(scene.timestep);
@@ -140,7 +141,7 @@ fn frame_deltas_time_scale_pauses_and_single_steps_give_identical_recordings() {
         VirtualClock::Jitter {
             base: ms(16),
             spread: ms(15),
-            rng: volley_sim::world::SplitMix64(3),
+            rng: volley_sim::internals::world::SplitMix64(3),
         },
         VirtualClock::Hitch {
             base: ms(16),
@@ -204,7 +205,8 @@ fn thread_counts_give_identical_hashes() {
     assert_eq!(hashes[0].len(), 11);
     assert!(hashes.iter().all(|h| *h == hashes[0]));
     // And a one-thread recording verifies when replayed with three threads.
-    let mut replay = volley_sim::replay::Replay::start(open(&first).unwrap(), None).unwrap();
+    let mut replay =
+        volley_sim::internals::replay::Replay::start(open(&first).unwrap(), None).unwrap();
     replay.set_threads(3);
     replay.run_to(u64::MAX, &mut ()).unwrap();
     assert!(replay.first_divergence().is_none());
@@ -253,7 +255,7 @@ fn a_one_ulp_nudge_is_reported_at_its_tick_with_the_body_and_field() {
     let f = &d.fields[0];
     assert_eq!((f.body.map(|b| b.0), f.field.as_str()), (Some(1), "p.x"));
     assert_eq!((&f.recorded, &f.replayed), (&Value::F64(a), &Value::F64(b)));
-    assert_eq!(f.ulps(), volley_sim::replay::ulps(a, b));
+    assert_eq!(f.ulps(), volley_sim::internals::replay::ulps(a, b));
     assert!(
         d.report(None)
             .contains("the first keyframe at or after tick 38")
@@ -290,7 +292,10 @@ fn with_hashes_every_k_ticks_the_report_bounds_the_divergent_interval() {
 struct Shown(u64);
 
 impl volley_sim::TickObserver for Shown {
-    fn after_tick(&mut self, _world: &World) -> Result<(), volley_sim::sim_loop::ObserverError> {
+    fn after_tick(
+        &mut self,
+        _world: &World,
+    ) -> Result<(), volley_sim::internals::sim_loop::ObserverError> {
         self.0 += 1;
         Ok(())
     }
@@ -304,7 +309,8 @@ impl volley_sim::TickObserver for Shown {
 fn a_recording_hashing_every_kth_tick_replays_the_ticks_between_as_batches() {
     let scene = free_flight();
     let bytes = record(&scene, 2000, &[], options(10, 500));
-    let mut played = volley_sim::replay::Replay::start(open(&bytes).unwrap(), None).unwrap();
+    let mut played =
+        volley_sim::internals::replay::Replay::start(open(&bytes).unwrap(), None).unwrap();
     let mut shown = Shown::default();
     played.run_to(u64::MAX, &mut shown).unwrap();
     assert!(played.first_divergence().is_none());
@@ -334,12 +340,13 @@ fn batched_replays_keep_commands_seeks_and_a_recorded_divergence() {
                   90: integrator rk4
                   120: force LinearDrag off
                   200: despawn 0";
-    let commands = volley_sim::command::parse_script(script, "batched.txt").unwrap();
+    let commands = volley_sim::internals::command::parse_script(script, "batched.txt").unwrap();
     let bytes = record(&scene, 300, &commands, options(7, 50));
     let stored: Vec<u64> = open(&bytes).unwrap().hashes().iter().map(|h| h.0).collect();
     let final_hash = open(&bytes).unwrap().hashes().last().unwrap().1;
     for (seek, from) in [(None, 0), (Some(120), 100), (Some(260), 250)] {
-        let mut played = volley_sim::replay::Replay::start(open(&bytes).unwrap(), seek).unwrap();
+        let mut played =
+            volley_sim::internals::replay::Replay::start(open(&bytes).unwrap(), seek).unwrap();
         let mut shown = Shown::default();
         played.run_to(u64::MAX, &mut shown).unwrap();
         assert_eq!(played.started_at(), from);
@@ -555,7 +562,7 @@ fn flushing_every_tick_leaves_a_readable_file_after_every_tick() {
     ] {
         let file = Shared::default();
         let mut sim = SimLoop::new(World::new(&scene));
-        let opts = volley_sim::replay::RecordOptions {
+        let opts = volley_sim::internals::replay::RecordOptions {
             flush,
             ..options(1, 10)
         };
@@ -665,11 +672,11 @@ fn drive_by_frames(
     sim: &mut SimLoop,
     mut frame: impl FnMut(&mut SimLoop, Duration) -> u32,
 ) -> Vec<u32> {
-    use volley_sim::clock::FrameSource;
+    use volley_sim::internals::clock::FrameSource;
     let mut source = VirtualClock::Jitter {
         base: Duration::from_nanos(16_666_667),
         spread: Duration::from_millis(9),
-        rng: volley_sim::world::SplitMix64(7),
+        rng: volley_sim::internals::world::SplitMix64(7),
     };
     let mut steps = Vec::new();
     for i in 0..400 {
@@ -692,7 +699,7 @@ fn a_replay_driven_by_display_frames_checks_every_tick_and_keyframe() {
     let (scene, commands) = (coverage_scene(), coverage_commands());
     let bytes = record(&scene, 300, &commands, options(1, 50));
     let (mut verifier, mut sim) =
-        volley_sim::replay::Verifier::start(open(&bytes).unwrap(), None).unwrap();
+        volley_sim::internals::replay::Verifier::start(open(&bytes).unwrap(), None).unwrap();
     let steps = drive_by_frames(&mut sim, |sim, delta| {
         verifier.frame(sim, delta, &mut ()).unwrap().steps
     });
@@ -730,7 +737,7 @@ fn a_nudged_recording_replayed_by_frames_parts_at_the_same_tick_with_the_same_re
     let scene = free_flight();
     let bytes = record_nudged(&scene, 60, 37, options(1, 10));
     let (mut verifier, mut sim) =
-        volley_sim::replay::Verifier::start(open(&bytes).unwrap(), None).unwrap();
+        volley_sim::internals::replay::Verifier::start(open(&bytes).unwrap(), None).unwrap();
     let mut seen_before_report = false;
     for _ in 0..200 {
         verifier

@@ -16,9 +16,9 @@
 use std::io::Cursor;
 
 use crate::replay_support::*;
-use volley_sim::clock::VirtualClock;
-use volley_sim::replay::{Recorder, Recording, Replay};
-use volley_sim::world::SplitMix64;
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::replay::{Recorder, Recording, Replay};
+use volley_sim::internals::world::SplitMix64;
 use volley_sim::{SimLoop, World};
 
 /// Cases the dev-profile test run covers.

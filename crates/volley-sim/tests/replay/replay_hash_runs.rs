@@ -2,8 +2,9 @@
 //! refuses in one. (Format version 2; `src/replay/format.rs` has the layout.)
 
 use crate::replay_support::*;
-use volley_sim::replay::format::HASH_RUN_MAX;
-use volley_sim::{Scene, Stamped, scene};
+use volley_sim::internals::replay::format::HASH_RUN_MAX;
+use volley_sim::internals::scene;
+use volley_sim::{Scene, Stamped};
 
 /// One body thrown under gravity, no contacts: cheap to run for thousands of ticks.
 fn throw() -> Scene {
@@ -17,7 +18,7 @@ fn throw() -> Scene {
 }
 
 fn commands(script: &str) -> Vec<Stamped> {
-    volley_sim::command::parse_script(script, "inline").unwrap()
+    volley_sim::internals::command::parse_script(script, "inline").unwrap()
 }
 
 const HEADER: u8 = 1;

@@ -3,12 +3,13 @@
 //! integrator; replaying the recorded future records nothing twice; a new command behind the
 //! end drops the future; the memory budget holds.
 
-use volley_sim::clock::VirtualClock;
-use volley_sim::command::{Command, Stamped};
-use volley_sim::hash::state_hash;
-use volley_sim::sim_loop::{ObserverError, TickObserver};
-use volley_sim::timeline::Timeline;
-use volley_sim::{ForceKind, Integrator, SimLoop, World, scene};
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::command::{Command, Stamped};
+use volley_sim::internals::hash::state_hash;
+use volley_sim::internals::scene;
+use volley_sim::internals::sim_loop::{ObserverError, TickObserver};
+use volley_sim::internals::timeline::Timeline;
+use volley_sim::{ForceKind, Integrator, SimLoop, World};
 
 /// Gravity, a spring (position-only, so velocity Verlet carries its force as state), linear
 /// drag and a bouncing ground with a target: events, carries and commands all in play.

@@ -5,10 +5,11 @@
 
 use std::io::Cursor;
 
-use volley_sim::clock::{FrameSource, VirtualClock};
-use volley_sim::replay::format::{self, Kind};
-use volley_sim::replay::{FlushPolicy, RecordOptions, Recorder, Recording, Replay};
-use volley_sim::{Scene, SimLoop, Stamped, TickObserver, World, scene};
+use volley_sim::internals::clock::{FrameSource, VirtualClock};
+use volley_sim::internals::replay::format::{self, Kind};
+use volley_sim::internals::replay::{FlushPolicy, RecordOptions, Recorder, Recording, Replay};
+use volley_sim::internals::scene;
+use volley_sim::{Scene, SimLoop, Stamped, TickObserver, World};
 
 /// The coverage scene (volley, contacts, spring, drag).
 pub fn coverage_scene() -> Scene {
@@ -32,7 +33,7 @@ pub fn stiff_scene() -> Scene {
 pub fn coverage_commands() -> Vec<Stamped> {
     let path = "tests/data/replay_commands.txt";
     let text = std::fs::read_to_string(crate::support::ws(path)).unwrap();
-    volley_sim::command::parse_script(&text, path).unwrap()
+    volley_sim::internals::command::parse_script(&text, path).unwrap()
 }
 
 /// Options for in-memory recordings: keyframes every `keyframe_every`, no wall-clock flushes.
@@ -67,7 +68,9 @@ pub fn record(scene: &Scene, ticks: u64, commands: &[Stamped], options: RecordOp
 }
 
 /// Opens a recording held in memory.
-pub fn open(bytes: &[u8]) -> Result<Recording<Cursor<Vec<u8>>>, volley_sim::replay::ReplayError> {
+pub fn open(
+    bytes: &[u8],
+) -> Result<Recording<Cursor<Vec<u8>>>, volley_sim::internals::replay::ReplayError> {
     Recording::from_reader(Cursor::new(bytes.to_vec()), "test.vrec")
 }
 
@@ -83,9 +86,12 @@ pub fn replay(bytes: &[u8], seek: Option<u64>) -> Replay<Cursor<Vec<u8>>> {
 pub struct Hashes(pub Vec<(u64, u64)>);
 
 impl TickObserver for Hashes {
-    fn after_tick(&mut self, world: &World) -> Result<(), volley_sim::sim_loop::ObserverError> {
+    fn after_tick(
+        &mut self,
+        world: &World,
+    ) -> Result<(), volley_sim::internals::sim_loop::ObserverError> {
         self.0
-            .push((world.tick(), volley_sim::hash::state_hash(world)));
+            .push((world.tick(), volley_sim::internals::hash::state_hash(world)));
         Ok(())
     }
 }

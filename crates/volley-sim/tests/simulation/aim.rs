@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 use proptest::prelude::*;
-use volley_sim::exact::{AimError, LaunchSolution, aim, constant_accel};
+use volley_sim::internals::exact::{AimError, LaunchSolution, aim, constant_accel};
 
 const G: f64 = 9.81;
 

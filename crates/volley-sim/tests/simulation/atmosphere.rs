@@ -9,7 +9,7 @@
 //! where the exact 0.819347 would print 0.8193), so each bound also allows half a unit of the
 //! fifth significant digit that rounding started from.
 
-use volley_sim::atmosphere::{Atmosphere, geopotential};
+use volley_sim::internals::atmosphere::{Atmosphere, geopotential};
 
 /// Z (m), H (m), T (K), p (bar), rho (kg/m^3), a (m/s), as printed.
 /// The table goes on; its 13 km row prints a density of 0.2667, which its own pressure and
@@ -83,7 +83,7 @@ fn a_warmer_day_is_thinner_at_the_same_pressure_and_sound_is_faster() {
 
 #[test]
 fn the_tabulated_column_matches_the_formulas_everywhere() {
-    use volley_sim::atmosphere::{AirColumn, COLUMN_BOTTOM, COLUMN_TOP};
+    use volley_sim::internals::atmosphere::{AirColumn, COLUMN_BOTTOM, COLUMN_TOP};
     // Its bound (see `AirColumn`): 1e-9 relative, the layer boundaries included. Every 0.37 m
     // from below the table to above it, so the exact fallback outside is checked too.
     for (day, ground) in [

@@ -19,8 +19,8 @@
 //! the transonic rows (1200 m to 1400 m) by up to 0.09 m/s and the 2000 m path by 0.24 in.
 
 use glam::DVec3;
-use volley_sim::scene;
-use volley_sim::world::World;
+use volley_sim::internals::scene;
+use volley_sim::internals::world::World;
 
 const M_PER_IN: f64 = 0.0254;
 
@@ -75,7 +75,7 @@ const WIND: [(f64, f64); 20] = [
 ];
 
 /// ICAO's and CODATA's gas constants of dry air (J/(kg K)), as the module doc says.
-const R_ICAO: f64 = volley_sim::atmosphere::R_AIR;
+const R_ICAO: f64 = volley_sim::internals::atmosphere::R_AIR;
 const R_CODATA: f64 = 8.314_462_618 / 0.028_964_5;
 
 fn jbm_scene(wind: &str, temperature: f64) -> scene::Scene {

@@ -21,8 +21,8 @@
 //! the printed digit (at most 0.039 in and 0.0003 s), every speed within 0.055 ft/s.
 
 use glam::DVec3;
-use volley_sim::world::World;
-use volley_sim::{firing, scene};
+use volley_sim::internals::world::World;
+use volley_sim::internals::{firing, scene};
 
 const IN: f64 = 0.0254;
 const FT: f64 = 0.3048;
@@ -63,8 +63,8 @@ fn suite_air(t_k: f64, p: f64, h: f64) -> (f64, f64) {
 
 fn shot(elevation_deg: f64) -> scene::Scene {
     let (density, sound) = suite_air((59.0 - 32.0) / 1.8 + 273.15, 29.92 * 3386.389, 0.78);
-    let r = volley_sim::atmosphere::R_AIR;
-    let temperature = sound * sound / (volley_sim::atmosphere::GAMMA * r);
+    let r = volley_sim::internals::atmosphere::R_AIR;
+    let temperature = sound * sound / (volley_sim::internals::atmosphere::GAMMA * r);
     let pressure = density * r * temperature;
     let text = format!(
         "Scene(dt: 0.001, integrator: Rk4, duration: 1.5,

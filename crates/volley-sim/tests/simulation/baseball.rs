@@ -22,10 +22,10 @@
 //! (`p + v dt` and `p + (v + a dt) dt`). So Volley reproduces every row of the sheet.
 
 use glam::DVec3;
-use volley_sim::forces::{ForceModel, RAD_S_PER_RPM};
-use volley_sim::integrate::{Integrator, Launch, Mass};
-use volley_sim::scene;
-use volley_sim::world::World;
+use volley_sim::internals::forces::{ForceModel, RAD_S_PER_RPM};
+use volley_sim::internals::integrate::{Integrator, Launch, Mass};
+use volley_sim::internals::scene;
+use volley_sim::internals::world::World;
 
 const FT: f64 = 0.3048;
 const OZ: f64 = 0.028_349_523_125;
@@ -84,7 +84,7 @@ fn fly_ball(integrator: Integrator) -> scene::Scene {
     // rho pi d^2 / (8 m) = c0 per metre; at 70 F (294.261 K) that density is this pressure.
     let temperature = (70.0 - 32.0) / 1.8 + 273.15;
     let density = (C0 / FT) * 8.0 * m / (std::f64::consts::PI * d * d);
-    let pressure = density * volley_sim::atmosphere::R_AIR * temperature;
+    let pressure = density * volley_sim::internals::atmosphere::R_AIR * temperature;
     let first = &rows()[0];
     let text = format!(
         "Scene(dt: 0.01, integrator: {integrator:?}, duration: 6.0,
@@ -149,7 +149,7 @@ fn the_ball_feels_the_force_nathans_calculator_prints_in_every_row() {
             "t = {}: S {s}",
             row.t
         );
-        let cl = volley_sim::forces::LiftModel::Nathan.coefficient(s);
+        let cl = volley_sim::internals::forces::LiftModel::Nathan.coefficient(s);
         assert!(
             (cl - row.cl).abs() <= MODEL_REL * row.cl,
             "t = {}: C_L {cl}",

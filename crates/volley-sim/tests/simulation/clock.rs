@@ -3,10 +3,11 @@
 
 use std::time::Duration;
 
-use volley_sim::clock::{FixedClock, FrameSource, FrameTicks, VirtualClock};
-use volley_sim::hash::state_hash;
-use volley_sim::world::SplitMix64;
-use volley_sim::{SimLoop, World, scene};
+use volley_sim::internals::clock::{FixedClock, FrameSource, FrameTicks, VirtualClock};
+use volley_sim::internals::hash::state_hash;
+use volley_sim::internals::scene;
+use volley_sim::internals::world::SplitMix64;
+use volley_sim::{SimLoop, World};
 
 const MS: Duration = Duration::from_millis(1);
 
@@ -116,7 +117,7 @@ fn time_scale_stretches_frame_time_and_rejects_nonsense() {
     for bad in [-1.0, f64::NAN, f64::INFINITY, 1000.0] {
         let err = c.set_time_scale(bad).unwrap_err();
         assert!(
-            matches!(err, volley_sim::clock::ClockError::TimeScale(x) if x.to_bits() == bad.to_bits()),
+            matches!(err, volley_sim::internals::clock::ClockError::TimeScale(x) if x.to_bits() == bad.to_bits()),
             "{bad}"
         );
         assert_eq!(err.to_string(), "time scale must be a number from 0 to 100");
@@ -207,7 +208,9 @@ fn a_run_stops_exactly_at_its_tick_and_keeps_the_rest_for_later() {
 fn a_frame_stopped_by_a_failing_command_gives_back_the_ticks_it_did_not_run() {
     let scene = scene::load(&crate::support::ws("assets/scenes/bounce.ron")).unwrap();
     let mut sim = SimLoop::new(World::new(&scene));
-    sim.schedule(volley_sim::command::parse_script("2: despawn 99\n", "script.txt").unwrap());
+    sim.schedule(
+        volley_sim::internals::command::parse_script("2: despawn 99\n", "script.txt").unwrap(),
+    );
     // One 250 ms frame is 14 whole 1/60 s ticks: the cap grants 8 (dropping 6) and the command
     // due before the third fails.
     let err = sim.frame(250 * MS, &mut ()).unwrap_err();

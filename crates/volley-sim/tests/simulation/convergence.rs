@@ -4,9 +4,10 @@
 //! log2(e(h) / e(h/2)) -> p as h -> 0. The runs go through `World::step`, the real stepping
 //! path, on scenes with no contacts so nothing but the integrator contributes.
 
-use volley_sim::exact::closed_form;
-use volley_sim::integrate::BodyState;
-use volley_sim::{Integrator, World, scene};
+use volley_sim::internals::exact::closed_form;
+use volley_sim::internals::integrate::BodyState;
+use volley_sim::internals::scene;
+use volley_sim::{Integrator, World};
 
 /// Gravity plus linear drag: k = b / m = 0.25 1/s, a closed form exists (exact.rs).
 const DRAG: &str = r#"Scene(

@@ -4,11 +4,11 @@
 use std::sync::Arc;
 
 use glam::DVec3;
-use volley_sim::forces::{ForceTerm, register};
-use volley_sim::integrate::Integrator;
-use volley_sim::scene;
+use volley_sim::internals::forces::{ForceTerm, register};
+use volley_sim::internals::integrate::Integrator;
+use volley_sim::internals::scene;
+use volley_sim::internals::world::World;
 use volley_sim::state_hash;
-use volley_sim::world::World;
 
 /// Quadratic drag written as a game would: `-c |v| v`, the built-in term's own operations.
 #[derive(Debug)]
@@ -242,7 +242,7 @@ impl ForceTerm for Fuse {
         _p: DVec3,
         _v: DVec3,
         m: f64,
-        launch: &volley_sim::integrate::Launch,
+        launch: &volley_sim::internals::integrate::Launch,
     ) -> DVec3 {
         let age = t - launch.time;
         DVec3::new(m * 4.0 * (1.0 - age / 0.5).max(0.0), 0.0, 0.0)

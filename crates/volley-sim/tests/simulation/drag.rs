@@ -2,7 +2,7 @@
 //! monotone where the points are, the peer's interpolation of the same points, and bad tables
 //! refused naming the point.
 
-use volley_sim::drag::{DragTable, DragTableError, standard};
+use volley_sim::internals::drag::{DragTable, DragTableError, standard};
 
 #[test]
 fn the_curves_pass_through_every_published_point() {
@@ -111,7 +111,7 @@ fn bad_tables_are_refused_naming_the_point() {
 
 #[test]
 fn straight_lines_run_between_the_points_and_through_them() {
-    use volley_sim::drag::Interpolation;
+    use volley_sim::internals::drag::Interpolation;
     for table in [DragTable::g1(), DragTable::g7(), DragTable::sphere()] {
         let points: Vec<(f64, f64)> = table.points().collect();
         for w in points.windows(2) {

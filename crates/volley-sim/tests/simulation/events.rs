@@ -1,9 +1,10 @@
 //! Contact events: the ground impact and the target hit are solved inside the step.
 
 use glam::DVec3;
-use volley_sim::clock::VirtualClock;
-use volley_sim::exact::{constant_accel, ground_impact_time};
-use volley_sim::{EventKind, Integrator, Scene, SimLoop, World, scene};
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::exact::{constant_accel, ground_impact_time};
+use volley_sim::internals::scene;
+use volley_sim::{EventKind, Integrator, Scene, SimLoop, World};
 
 fn seed(integrator: Integrator) -> Scene {
     let mut s = scene::load(&crate::support::ws("assets/scenes/seed.ron")).unwrap();
@@ -15,7 +16,10 @@ fn seed(integrator: Integrator) -> Scene {
 fn events(scene: &Scene, ticks: u64) -> Vec<volley_sim::Event> {
     struct Collect(Vec<volley_sim::Event>);
     impl volley_sim::TickObserver for Collect {
-        fn after_tick(&mut self, w: &World) -> Result<(), volley_sim::sim_loop::ObserverError> {
+        fn after_tick(
+            &mut self,
+            w: &World,
+        ) -> Result<(), volley_sim::internals::sim_loop::ObserverError> {
             self.0.extend_from_slice(w.events());
             Ok(())
         }
@@ -90,8 +94,9 @@ fn the_exact_launch_hits_the_target_dead_centre() {
         .next_back()
         .expect("the projectile passes the target");
     // Closest approach at the aim's flight time, 5.207666 s after launch, at distance ~0.
-    let flight =
-        volley_sim::exact::aim(b.position, target.center, 30.0, 9.81).unwrap()[0].flight_time;
+    let flight = volley_sim::internals::exact::aim(b.position, target.center, 30.0, 9.81).unwrap()
+        [0]
+    .flight_time;
     assert!(
         (time - (5.0 + flight)).abs() < 1e-9,
         "closest approach at {time}"

@@ -5,11 +5,12 @@
 //! `World` with the target in it (swept detection), not the solver's residual.
 
 use glam::DVec3;
-use volley_sim::contact::Target;
-use volley_sim::exact::Arc;
-use volley_sim::firing::{self, FiringError, Mode, Range, ShotKind};
-use volley_sim::scene::{self, Scene};
-use volley_sim::{Integrator, integrate::Integrator as I};
+use volley_sim::Integrator;
+use volley_sim::internals::contact::Target;
+use volley_sim::internals::exact::Arc;
+use volley_sim::internals::firing::{self, FiringError, Mode, Range, ShotKind};
+use volley_sim::internals::integrate::Integrator as I;
+use volley_sim::internals::scene::{self, Scene};
 
 /// The promise: the stepped shot passes the target's centre within this (m).
 const HIT: f64 = 1e-9;
@@ -114,7 +115,8 @@ fn under_the_closed_form_the_solution_is_the_textbook_one() {
     // textbook must hit too: both within the 1e-9 m promise.
     let scene = with_integrator(&bundled("seed"), I::Exact).unwrap();
     let range = seed_range(&scene);
-    let [high, low] = volley_sim::exact::aim(range.from, range.target.center, 30.0, 9.81).unwrap();
+    let [high, low] =
+        volley_sim::internals::exact::aim(range.from, range.target.center, 30.0, 9.81).unwrap();
     let shots = firing::solve(&range, Mode::Speed(30.0)).unwrap();
     for (shot, want) in shots.iter().zip([high, low]) {
         assert!(
@@ -227,7 +229,7 @@ fn a_moving_target_is_intercepted_with_its_lead() {
             // Independently: the closed-form position at arrival is the target's there.
             let lin = DVec3::new(0.0, 0.0, -9.81);
             for s in &shots {
-                let (p, _) = volley_sim::exact::linear_drag_flow(
+                let (p, _) = volley_sim::internals::exact::linear_drag_flow(
                     range.from,
                     s.velocity,
                     lin,
@@ -334,7 +336,7 @@ fn a_target_behind_a_wall_is_blocked_naming_the_wall_and_the_tick() {
     };
     assert_eq!(shots.len(), 2);
     for (_, b) in shots {
-        assert_eq!(b.surface, volley_sim::contact::Surface::Wall(0));
+        assert_eq!(b.surface, volley_sim::internals::contact::Surface::Wall(0));
         // The wall's near face is at x = 29.75 - 0.1 (the shot's radius): 19.65 m from the
         // launch, so the impact comes before the arrival and after the start.
         assert!(b.time > 0.0 && b.tick >= 1, "{b:?}");

@@ -8,9 +8,9 @@
 //! chunks really run concurrently, whatever the machine's core count.
 
 use glam::DVec3;
-use volley_sim::hash::state_hash;
-use volley_sim::scene::{self, BodySpec, Scene};
-use volley_sim::step::PARALLEL_MIN_CHUNK;
+use volley_sim::internals::hash::state_hash;
+use volley_sim::internals::scene::{self, BodySpec, Scene};
+use volley_sim::internals::step::PARALLEL_MIN_CHUNK;
 use volley_sim::{Event, Integrator, World};
 
 const BODIES: u32 = 3 * PARALLEL_MIN_CHUNK as u32 + 7;

@@ -1,15 +1,19 @@
 //! A body that came to rest reports it once, not every time gravity presses it back onto the
 //! surface (the seed scene's long runs printed "came to rest" every other tick).
 
-use volley_sim::clock::VirtualClock;
-use volley_sim::{EventKind, SimLoop, TickObserver, World, scene};
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::scene;
+use volley_sim::{EventKind, SimLoop, TickObserver, World};
 
 /// Counts the rest events the loop produces.
 #[derive(Default)]
 struct Rests(usize);
 
 impl TickObserver for Rests {
-    fn after_tick(&mut self, world: &World) -> Result<(), volley_sim::sim_loop::ObserverError> {
+    fn after_tick(
+        &mut self,
+        world: &World,
+    ) -> Result<(), volley_sim::internals::sim_loop::ObserverError> {
         let rests = world
             .events()
             .iter()

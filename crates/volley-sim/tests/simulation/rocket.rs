@@ -9,10 +9,10 @@
 //! propellant left at each point of the C6 curve (`m`, g, 6 significant digits).
 
 use glam::DVec3;
-use volley_sim::forces::ThrustCurve;
-use volley_sim::integrate::Integrator;
-use volley_sim::scene;
-use volley_sim::world::World;
+use volley_sim::internals::forces::ThrustCurve;
+use volley_sim::internals::integrate::Integrator;
+use volley_sim::internals::scene;
+use volley_sim::internals::world::World;
 
 /// Estes_C6.eng's points (s, N); RASP curves start from (0, 0), which the file leaves implicit.
 const C6: [(f64, f64); 25] = [

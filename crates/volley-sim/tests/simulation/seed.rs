@@ -13,10 +13,11 @@
 //! launch), and it also reproduces the slides' closed-form values to their four decimals.
 
 use glam::DVec3;
-use volley_sim::clock::VirtualClock;
-use volley_sim::exact::constant_accel;
-use volley_sim::integrate::{BodyState, step_body};
-use volley_sim::{Forces, Integrator, SimLoop, World, scene};
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::exact::constant_accel;
+use volley_sim::internals::integrate::{BodyState, step_body};
+use volley_sim::internals::scene;
+use volley_sim::{Forces, Integrator, SimLoop, World};
 
 /// True when `value` rounds to `printed` at `decimals` decimals: within half a unit of the last
 /// printed digit (plus 1e-9 of a unit for the binary representation of the printed number).
@@ -221,9 +222,10 @@ fn closed_form_and_truncation_error_match_the_slides_for_each_dt() {
 fn the_seed_built_in_code_steps_to_the_files_hash() {
     // The seed scene set up with the builder instead of its file (the launch as the velocity
     // the file's Aim resolves to): every tick's state hash is the file's.
-    use volley_sim::contact::{Ground, Target};
-    use volley_sim::scene::{self, BodySpec, Scene};
-    use volley_sim::{Integrator, World, hash};
+    use volley_sim::internals::contact::{Ground, Target};
+    use volley_sim::internals::hash;
+    use volley_sim::internals::scene::{self, BodySpec, Scene};
+    use volley_sim::{Integrator, World};
     let file = scene::bundled("seed").unwrap();
     let built = Scene::builder("seed", 0.2)
         .description(&file.description)

@@ -2,9 +2,9 @@
 //! and the runs it calls unstable do diverge.
 
 use volley_sim::Integrator::{self, *};
-use volley_sim::clock::VirtualClock;
-use volley_sim::scene::{self, Scene};
-use volley_sim::stability::{self, Stiffness};
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::scene::{self, Scene};
+use volley_sim::internals::stability::{self, Stiffness};
 use volley_sim::{Command, SimLoop, World};
 
 fn load(name: &str) -> Scene {

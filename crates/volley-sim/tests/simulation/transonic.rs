@@ -15,9 +15,9 @@
 //! order, with 0.3 of slack for the pre-asymptotic mixing of the kinks' contributions, which
 //! can also cancel and show a little more than the bound.
 
-use volley_sim::integrate::Integrator;
-use volley_sim::scene;
-use volley_sim::world::World;
+use volley_sim::internals::integrate::Integrator;
+use volley_sim::internals::scene;
+use volley_sim::internals::world::World;
 
 const T: f64 = 3.0;
 

@@ -2,10 +2,11 @@
 //! boundaries.
 
 use glam::DVec3;
-use volley_sim::command::{Command, CommandError, parse_script};
-use volley_sim::scene::{BodySpec, IntegratorError};
-use volley_sim::world::RestoreError;
-use volley_sim::{BodyId, ForceKind, Integrator, SimLoop, World, scene};
+use volley_sim::internals::command::{Command, CommandError, parse_script};
+use volley_sim::internals::scene;
+use volley_sim::internals::scene::{BodySpec, IntegratorError};
+use volley_sim::internals::world::RestoreError;
+use volley_sim::{BodyId, ForceKind, Integrator, SimLoop, World};
 
 fn empty_world() -> World {
     let text = r#"Scene(dt: 0.01, integrator: SemiImplicitEuler,
@@ -51,7 +52,7 @@ fn commands_apply_at_their_tick_boundary() {
                   3: fire\n\
                   5: despawn 0\n";
     sim.schedule(parse_script(script, "script.txt").unwrap());
-    let steady = volley_sim::clock::VirtualClock::Steady(sim.world.scene().timestep);
+    let steady = volley_sim::internals::clock::VirtualClock::Steady(sim.world.scene().timestep);
     sim.run_until(3, &mut steady.clone(), &mut ()).unwrap();
     assert_eq!(sim.world.bodies().len(), 1);
     sim.run_until(4, &mut steady.clone(), &mut ()).unwrap();
@@ -166,7 +167,7 @@ fn restore_names_the_check_a_snapshot_fails() {
     w.spawn(&ball(0.0));
     w.spawn(&ball(1.0));
     let good = w.snapshot();
-    type Spoil = fn(&mut volley_sim::replay::Snapshot);
+    type Spoil = fn(&mut volley_sim::internals::replay::Snapshot);
     let cases: [(Spoil, RestoreError, &str); 10] = [
         (
             |s| s.tick = u64::MAX,
@@ -177,7 +178,7 @@ fn restore_names_the_check_a_snapshot_fails() {
             "tick 18446744073709551615 and next_id 2 must be below 2^62 (4611686018427387904)",
         ),
         (
-            |s| s.next_id = volley_sim::world::MAX_COUNT,
+            |s| s.next_id = volley_sim::internals::world::MAX_COUNT,
             RestoreError::Counts {
                 tick: 0,
                 next_id: 1 << 62,
@@ -250,18 +251,18 @@ fn restore_names_the_check_a_snapshot_fails() {
 
 #[test]
 fn a_scene_written_by_to_ron_parses_back_to_the_same_scene_and_steps_to_the_same_bits() {
-    for (name, _) in volley_sim::scene::BUNDLED {
-        let mut scene = volley_sim::scene::bundled(name).unwrap();
+    for (name, _) in volley_sim::internals::scene::BUNDLED {
+        let mut scene = volley_sim::internals::scene::bundled(name).unwrap();
         scene.compare = vec![
-            volley_sim::scene::CompareLane::of(scene.integrator),
-            volley_sim::scene::CompareLane {
+            volley_sim::internals::scene::CompareLane::of(scene.integrator),
+            volley_sim::internals::scene::CompareLane {
                 integrator: scene.integrator,
                 dt: Some(0.05),
                 substeps: Some(3),
             },
         ];
         let text = scene.to_ron();
-        let back = volley_sim::scene::parse(&text, "saved.ron", "saved")
+        let back = volley_sim::internals::scene::parse(&text, "saved.ron", "saved")
             .unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
         // Everything but the source text (and the description's own comment lines) is equal.
         let mut expect = scene.clone();
@@ -275,8 +276,8 @@ fn a_scene_written_by_to_ron_parses_back_to_the_same_scene_and_steps_to_the_same
         let (ra, rb) = (a.step_ticks(ticks), b.step_ticks(ticks));
         assert_eq!(ra.is_ok(), rb.is_ok(), "{name}");
         assert_eq!(
-            volley_sim::hash::state_hash(&a),
-            volley_sim::hash::state_hash(&b),
+            volley_sim::internals::hash::state_hash(&a),
+            volley_sim::internals::hash::state_hash(&b),
             "{name}"
         );
     }

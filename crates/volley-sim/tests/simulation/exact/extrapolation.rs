@@ -3,9 +3,9 @@
 //! closed forms of their own.
 
 use glam::DVec3;
-use volley_sim::body::BodyState;
-use volley_sim::exact::{extrapolate, linear_drag_flow};
-use volley_sim::forces::Forces;
+use volley_sim::internals::body::BodyState;
+use volley_sim::internals::exact::{extrapolate, linear_drag_flow};
+use volley_sim::internals::forces::Forces;
 
 const G: f64 = 9.81;
 
@@ -88,7 +88,7 @@ fn bad_runs_are_errors_not_hangs() {
     // A point mass at the origin and a body dropped onto it from rest: the fall reaches the
     // singularity, where no step is small enough.
     let forces = Forces {
-        point_mass: Some(volley_sim::forces::PointMass {
+        point_mass: Some(volley_sim::internals::forces::PointMass {
             center: DVec3::ZERO,
             mu: 1.0,
         }),

@@ -3,11 +3,14 @@
 //! the invariants over 1000 orbits, and radial orbits up to their collision.
 
 use glam::DVec3;
-use volley_sim::exact::{KeplerError, KeplerOrbit, MAX_ITERATIONS, closed_form, kepler_flow};
-use volley_sim::forces::{Forces, PointMass};
-use volley_sim::integrate::BodyState;
-use volley_sim::world::DivergenceCause;
-use volley_sim::{Integrator, World, scene};
+use volley_sim::internals::exact::{
+    KeplerError, KeplerOrbit, MAX_ITERATIONS, closed_form, kepler_flow,
+};
+use volley_sim::internals::forces::{Forces, PointMass};
+use volley_sim::internals::integrate::BodyState;
+use volley_sim::internals::scene;
+use volley_sim::internals::world::DivergenceCause;
+use volley_sim::{Integrator, World};
 
 /// Bisection to the last bit on an increasing `f` with `f(lo) <= 0 <= f(hi)`.
 fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {

@@ -4,10 +4,11 @@
 
 use glam::DVec3;
 use proptest::prelude::*;
-use volley_sim::exact::{closed_form, linear_drag_flow};
-use volley_sim::forces::{Forces, Spring};
-use volley_sim::integrate::BodyState;
-use volley_sim::{Integrator, World, scene};
+use volley_sim::internals::exact::{closed_form, linear_drag_flow};
+use volley_sim::internals::forces::{Forces, Spring};
+use volley_sim::internals::integrate::BodyState;
+use volley_sim::internals::scene;
+use volley_sim::{Integrator, World};
 
 /// The textbook eigen-solution of `y'' = a0 - kd y' - w2 y` on one axis, by regime: about the
 /// equilibrium `a0 / w2`, `e^(-g t) (A cos wd t + B sin wd t)` under-damped, two exponentials

@@ -7,7 +7,8 @@ mod linear;
 
 use glam::DVec3;
 use proptest::prelude::*;
-use volley_sim::{Integrator, World, scene};
+use volley_sim::internals::scene;
+use volley_sim::{Integrator, World};
 
 /// The reference form of docs/physics.md ("Closed forms"), evaluated directly: linear drag k = b/m under gravity,
 /// vT = g/k, p(t) = p0 + vT t + (v0 - vT)(1 - e^-kt)/k.

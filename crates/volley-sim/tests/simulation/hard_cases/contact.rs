@@ -2,9 +2,9 @@
 //! elastic bounce for a minute.
 
 use volley_sim::Integrator::*;
-use volley_sim::contact::{Detection, Surface};
-use volley_sim::exact::ground_impact_time;
-use volley_sim::scene::Scene;
+use volley_sim::internals::contact::{Detection, Surface};
+use volley_sim::internals::exact::ground_impact_time;
+use volley_sim::internals::scene::Scene;
 use volley_sim::{EventKind, Integrator};
 
 use super::{Trace, allowed, load, run, with};

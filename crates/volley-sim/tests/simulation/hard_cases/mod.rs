@@ -11,9 +11,9 @@ mod precision;
 mod stiff;
 mod time;
 
-use volley_sim::clock::VirtualClock;
-use volley_sim::scene::{self, Scene};
-use volley_sim::sim_loop::{ObserverError, TickObserver};
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::scene::{self, Scene};
+use volley_sim::internals::sim_loop::{ObserverError, TickObserver};
 use volley_sim::{Integrator, LoopError, SimLoop, World};
 
 /// A bundled scene by name (`hard/stiff_spring`).

@@ -2,9 +2,10 @@
 //! eccentric orbit judged at periapsis.
 
 use volley_sim::Integrator::{self, *};
-use volley_sim::clock::VirtualClock;
-use volley_sim::sim_loop::{ObserverError, TickObserver};
-use volley_sim::{LoopError, SimLoop, World, stability};
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::sim_loop::{ObserverError, TickObserver};
+use volley_sim::internals::stability;
+use volley_sim::{LoopError, SimLoop, World};
 
 use super::{load, with};
 
@@ -134,7 +135,7 @@ fn kepler_time_exact_lands_where_keplers_equation_says() {
     assert_eq!(scene.integrator, Exact);
     let mu = scene.forces.point_mass.unwrap().mu;
     let b = scene.bodies[0];
-    let s0 = volley_sim::integrate::BodyState {
+    let s0 = volley_sim::internals::integrate::BodyState {
         p: b.position,
         mv: b.mass * b.velocity,
     };
@@ -153,7 +154,8 @@ fn kepler_time_exact_lands_where_keplers_equation_says() {
             err <= n as f64 * 5e-15,
             "tick {n}: stepped position off by {err:e} m"
         );
-        let closed = volley_sim::exact::closed_form(&scene.forces, s0, b.mass, t).unwrap();
+        let closed =
+            volley_sim::internals::exact::closed_form(&scene.forces, s0, b.mass, t).unwrap();
         let err = (closed.p - expected).length();
         assert!(err <= 1e-13, "tick {n}: closed form off by {err:e} m");
     }
@@ -230,7 +232,9 @@ fn eccentric_orbit_stability_is_judged_at_periapsis() {
     // Periapsis from the start at apoapsis: a = 1 / (2/r - v^2/mu), r_p = 2 a - r_a.
     let a = 1.0 / (2.0 / b.position.length() - b.velocity.length_squared() / mu);
     let rp = 2.0 * a - b.position.length();
-    let s = volley_sim::stability::Stiffness::of_body(&scene, b.mass, b.position, b.velocity);
+    let s = volley_sim::internals::stability::Stiffness::of_body(
+        &scene, b.mass, b.position, b.velocity,
+    );
     let w2 = mu / (rp * rp * rp);
     assert!((s.w2_nl - w2).abs() <= 1e-12 * w2, "{} vs {w2}", s.w2_nl);
     // At dt = 0.07 s: w h = 2.21 at periapsis, past the symplectic methods' 2 and inside

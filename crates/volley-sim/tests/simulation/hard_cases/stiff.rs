@@ -6,8 +6,8 @@
 //! |R(i w h)|^2 per step, and the guard (10x the start energy) trips at the first tick past it.
 
 use volley_sim::Integrator::{self, *};
-use volley_sim::stability;
-use volley_sim::world::DivergenceCause;
+use volley_sim::internals::stability;
+use volley_sim::internals::world::DivergenceCause;
 
 use super::{allowed, diverged, load, run, ticks_to_pass, with};
 
@@ -288,13 +288,13 @@ fn critical_spring_exact_is_the_critical_closed_form_at_every_tick() {
     assert_eq!(scene.integrator, Exact);
     let (trace, result, world) = run(&scene, 600);
     assert!(result.is_ok(), "{result:?}");
-    let s0 = volley_sim::integrate::BodyState {
+    let s0 = volley_sim::internals::integrate::BodyState {
         p: scene.bodies[0].position,
         mv: m * scene.bodies[0].velocity,
     };
     for (n, p) in trace.p.iter().enumerate() {
         let t = n as f64 * scene.dt();
-        let closed = volley_sim::exact::closed_form(&scene.forces, s0, m, t).unwrap();
+        let closed = volley_sim::internals::exact::closed_form(&scene.forces, s0, m, t).unwrap();
         // Each step composes the exact flow, so only rounding accumulates (an ulp of the 5 m
         // coordinates a step, damped by the flow itself): 1e-12 m over 600 steps. The closed
         // form and the textbook critical solution are both a few ulps from the truth.

@@ -2,8 +2,10 @@
 
 use std::time::Duration;
 
-use volley_sim::clock::{DEFAULT_MAX_FRAME_DELTA, DEFAULT_MAX_STEPS_PER_FRAME, VirtualClock};
-use volley_sim::world::SplitMix64;
+use volley_sim::internals::clock::{
+    DEFAULT_MAX_FRAME_DELTA, DEFAULT_MAX_STEPS_PER_FRAME, VirtualClock,
+};
+use volley_sim::internals::world::SplitMix64;
 use volley_sim::{SimLoop, World};
 
 use super::load;
