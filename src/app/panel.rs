@@ -125,6 +125,11 @@ impl PanelState {
     }
 }
 
+/// The timeline's note after a new command at `tick` dropped the recorded future.
+pub fn future_dropped_note(tick: u64) -> String {
+    format!("a new command at tick {tick}: the recorded future after it was dropped")
+}
+
 /// Frame timing and display facts for the panel.
 #[derive(Clone, Debug, Default)]
 pub struct FrameStats {
@@ -390,8 +395,8 @@ fn timeline(ui: &mut Ui, session: &Session, out: &mut Vec<Action>) {
             t.budget() >> 20
         ));
     }
-    if let Some(note) = &session.timeline_note {
-        ui.weak(note);
+    if let Some(tick) = session.future_dropped_at() {
+        ui.weak(future_dropped_note(tick));
     }
 }
 

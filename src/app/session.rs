@@ -116,8 +116,8 @@ pub struct Session {
     history_budget: usize,
     /// Playing backwards: sim time owed to the reverse playback (scaled by the time scale).
     reverse: Option<Duration>,
-    /// What the last seek did to a recording or the recorded future, for the panel.
-    pub timeline_note: Option<String>,
+    /// The tick from which a new command last dropped the recorded future.
+    future_dropped_at: Option<u64>,
     /// How every lane is drawn between (or past) its ticks.
     draw: DrawMode,
     /// The refresh interval the snapping and quantising policies are given.
@@ -169,7 +169,7 @@ impl Session {
             recordings_dir: PathBuf::new(),
             history_budget: crate::timeline::DEFAULT_BUDGET,
             reverse: None,
-            timeline_note: None,
+            future_dropped_at: None,
             draw: crate::pacing::DEFAULT_DRAW,
             refresh: DEFAULT_REFRESH,
             pacing: pacing::PacingLog::default(),

@@ -65,7 +65,7 @@ fn seeking_back_and_playing_forward_gives_every_lane_the_states_it_first_compute
             assert_eq!(state_hash(&l.sim.world), h[tick], "replayed tick {tick}");
         }
     }
-    assert!(s.timeline_note.is_none());
+    assert_eq!(s.future_dropped_at(), None);
     let t = s.lanes()[0].history.timeline.as_ref().unwrap();
     assert_eq!((t.end(), t.dropped_future()), (120, 0));
 }
@@ -78,7 +78,8 @@ fn a_new_command_after_a_seek_back_drops_the_future_and_says_so() {
     s.push(Command::Fire);
     s.single_step();
     s.frame(FRAME);
-    let note = s.timeline_note.clone().unwrap();
+    assert_eq!(s.future_dropped_at(), Some(30));
+    let note = volley::app::panel::future_dropped_note(30);
     assert!(note.contains("tick 30"), "{note}");
     let t = s.lanes()[0].history.timeline.as_ref().unwrap();
     assert_eq!(t.end(), 31);

@@ -5,7 +5,7 @@
 //! After a seek back the ticks already run are the recorded future: playing forward replays
 //! them exactly (the timeline's commands are scheduled on the loop again). The first *new*
 //! command at an earlier tick (fire, launch, aim, integrator, reset) drops that future in every
-//! lane, and the panel says so. A recording running when the timeline moves ends there, with
+//! lane, and the panel says so ([`Session::future_dropped_at`]). A recording running when the timeline moves ends there, with
 //! its footer, at the last tick it recorded (a recording's ticks only go forward); Record starts
 //! a new file from the tick the timeline is at.
 
@@ -166,8 +166,15 @@ impl Session {
         true
     }
 
+    /// The tick from which a new command last dropped the recorded future (after a seek back),
+    /// for the panel's note; `None` if no command has.
+    pub fn future_dropped_at(&self) -> Option<u64> {
+        self.future_dropped_at
+    }
+
     /// Before a new command: if the lanes are behind their recorded future, that future is
-    /// dropped (queued replays of it too), and the panel says from which tick.
+    /// dropped (queued replays of it too), and [`Session::future_dropped_at`] says from which
+    /// tick.
     pub(super) fn take_over_future(&mut self) {
         let mut dropped = None;
         for lane in &mut self.lanes {
@@ -183,10 +190,8 @@ impl Session {
                 dropped = Some(tick);
             }
         }
-        if let Some(tick) = dropped {
-            self.timeline_note = Some(format!(
-                "a new command at tick {tick}: the recorded future after it was dropped"
-            ));
+        if dropped.is_some() {
+            self.future_dropped_at = dropped;
         }
     }
 }
