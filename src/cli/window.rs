@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use volley::app::{self, WindowOptions};
-use volley::scene::CompareLane;
+use volley::scene::{CompareLane, Scene};
 
 use super::args::{Overrides, load_scene, parse_integrator};
 use super::display::{DisplayArgs, report, window_failure};
@@ -121,6 +121,28 @@ pub fn parse_compare(list: &str) -> Result<Vec<CompareLane>, Failure> {
         .collect()
 }
 
+/// `--compare`'s lanes, refused in one line if the scene can run none of them (the window
+/// would fall back to one lane of the scene's own integrator); a lane it cannot run is left out
+/// in the window, as the panel's picks are.
+fn runnable(lanes: Vec<CompareLane>, scene: &Scene) -> Result<Vec<CompareLane>, Failure> {
+    let mut refusals: Vec<String> = lanes
+        .iter()
+        .filter_map(|l| l.apply(scene).err())
+        .map(|e| e.message)
+        .collect();
+    if refusals.len() < lanes.len() || lanes.is_empty() {
+        return Ok(lanes);
+    }
+    refusals.dedup();
+    Err(fail(
+        EXIT_INPUT,
+        format!(
+            "--compare: none of the compared integrators can run this scene ({})",
+            refusals.join("; ")
+        ),
+    ))
+}
+
 /// The bundled scenes, (name, path), for the picker.
 fn bundled_scenes() -> Vec<(String, PathBuf)> {
     let Some(dir) = scene_dirs().into_iter().find(|d| d.is_dir()) else {
@@ -149,8 +171,8 @@ fn bundled_scenes() -> Vec<(String, PathBuf)> {
 pub fn run(args: &WindowArgs) -> Result<(), Failure> {
     let (path, scene) = load_scene(&args.scene, &args.overrides)?;
     let compare = match &args.compare {
-        Some(list) => parse_compare(list)?,
-        // A saved setup opens in its own compare lanes.
+        Some(list) => runnable(parse_compare(list)?, &scene)?,
+        // A saved setup opens in its own compare lanes (the scene file checked them).
         None => scene.compare.clone(),
     };
     let options = WindowOptions {

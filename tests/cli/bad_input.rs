@@ -118,6 +118,21 @@ fn cli_errors_are_one_line_with_a_nonzero_exit() {
     }
 }
 
+/// `exact` has no closed form under the rifle's Mach drag: a `--compare` of only lanes the scene
+/// refuses is one line before the window opens (the window would run the scene's own integrator
+/// instead).
+#[test]
+fn a_compare_list_the_scene_runs_none_of_is_refused_before_the_window_opens() {
+    let (code, _, err) = volley(&["window", "rifle", "--compare", "exact,exact@0.01"]);
+    assert_eq!((code, err.lines().count()), (2, 1), "{err}");
+    assert!(
+        err.starts_with(
+            "error: --compare: none of the compared integrators can run this scene (exact: "
+        ),
+        "{err}"
+    );
+}
+
 #[test]
 fn a_diverging_run_says_where_and_keeps_the_table_printed_so_far() {
     // Explicit Euler on a stiff spring (w h = 1.67): the amplitude grows by 1.94 per step and the
