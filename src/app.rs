@@ -369,11 +369,12 @@ impl App {
         if options.history_budget != session.history_budget() {
             session.set_history_budget(options.history_budget);
         }
-        if options.warm_up_ticks > 0 {
-            session.run_ticks(options.warm_up_ticks);
-        }
+        let warmed = match options.warm_up_ticks {
+            0 => Ok(()),
+            ticks => session.run_ticks(ticks),
+        };
         session.set_paused(options.paused);
-        session.set_time_scale(options.time_scale);
+        let scaled = session.set_time_scale(options.time_scale);
         session.set_policy(options.policy);
         session.set_refresh(match (&options.display, options.frame_rate) {
             (Some(d), _) => d.refresh,
@@ -382,6 +383,10 @@ impl App {
         });
         session.set_draw_mode(options.draw);
         let mut panel = PanelState::new(&session, options.scenes.clone());
+        // The panel shows the later refusal, as it would have replaced the earlier one.
+        if let Err(why) = scaled.and(warmed) {
+            panel.refuse(&session, why);
+        }
         panel.frames_note = match (&options.display, options.frame_rate) {
             (Some(d), _) => format!("display {} (virtual frames)", d.name),
             (None, Some(hz)) => format!("steady {hz} Hz frames"),
@@ -439,7 +444,10 @@ impl App {
                 } else {
                     "another scene was picked"
                 };
-                self.session.restart(Some((scene, path.to_path_buf())), why);
+                let restarted = self.session.restart(Some((scene, path.to_path_buf())), why);
+                if let Err(why) = restarted {
+                    self.refuse(why);
+                }
                 self.ui.panel.sync(&self.session);
                 if reload {
                     let at = self.session.world().tick();
@@ -543,7 +551,9 @@ impl App {
         }
         let frame = self.timing.frames.next_frame();
         self.check_reload(start);
-        self.session.frame_shown(frame.delta, frame.shown);
+        if let Some(why) = self.session.frame_shown(frame.delta, frame.shown) {
+            self.refuse(why);
+        }
         if self.session.lanes().iter().all(|l| l.pending() == 0) {
             let panel = &mut self.ui.panel;
             let (dt_ms, substeps) = (panel.dt_ms, panel.substeps);

@@ -9,29 +9,43 @@ use super::{Action, App};
 use crate::command::Command;
 
 impl App {
+    /// Does what `action` asks; a refusal goes to the panel.
     pub(super) fn apply(&mut self, action: Action) {
+        if let Err(why) = self.act(action) {
+            self.refuse(why);
+        }
+    }
+
+    /// Shows `why` in the panel as the last refusal.
+    pub(super) fn refuse(&mut self, why: String) {
+        self.ui.panel.refuse(&self.session, why);
+    }
+
+    /// Does what `action` asks, or says why it cannot.
+    fn act(&mut self, action: Action) -> Result<(), String> {
         let s = &mut self.session;
         match action {
             Action::TogglePause => s.set_paused(!s.is_paused()),
             Action::Step => s.single_step(),
             Action::SetLaneStep { lane, dt, substeps } => {
-                s.set_lane_step(lane, dt, substeps);
+                let set = s.set_lane_step(lane, dt, substeps);
                 self.ui.panel.sync(&self.session);
+                set?;
             }
-            Action::SetEqualCost(on) => s.set_equal_cost(on),
-            Action::Seek(tick) => s.seek(tick),
-            Action::StepBack => s.step_back(),
-            Action::JumpStart => s.jump_to_start(),
-            Action::JumpEnd => s.jump_to_end(),
+            Action::SetEqualCost(on) => s.set_equal_cost(on)?,
+            Action::Seek(tick) => s.seek(tick)?,
+            Action::StepBack => s.step_back()?,
+            Action::JumpStart => s.jump_to_start()?,
+            Action::JumpEnd => s.jump_to_end()?,
             Action::ToggleReverse => s.toggle_reverse(),
-            Action::SetTimeScale(x) => s.set_time_scale(x),
-            Action::ScaleTime(f) => s.set_time_scale((s.time_scale() * f).clamp(1e-3, 100.0)),
-            Action::SetStep { dt, substeps } => self.set_step(dt, substeps),
+            Action::SetTimeScale(x) => s.set_time_scale(x)?,
+            Action::ScaleTime(f) => s.set_time_scale((s.time_scale() * f).clamp(1e-3, 100.0))?,
+            Action::SetStep { dt, substeps } => self.set_step(dt, substeps)?,
             Action::ScaleDt(f) => {
                 let (dt, substeps) = (s.scene().dt() * f, s.scene().substeps);
-                self.set_step(dt, substeps);
+                self.set_step(dt, substeps)?;
             }
-            Action::SetIntegrator(i) => s.push(Command::SetIntegrator(i)),
+            Action::SetIntegrator(i) => s.push(Command::SetIntegrator(i))?,
             Action::Launch {
                 speed,
                 elevation_deg,
@@ -41,7 +55,7 @@ impl App {
                 elevation_deg,
                 azimuth_deg,
                 position: None,
-            }),
+            })?,
             Action::NudgeLaunch(ds, de, da) => {
                 let p = &mut self.ui.panel;
                 p.speed = (p.speed + ds).max(0.0);
@@ -52,30 +66,30 @@ impl App {
                     elevation_deg: Some(p.elevation_deg),
                     azimuth_deg: Some(p.azimuth_deg),
                     position: None,
-                });
+                })?;
             }
-            Action::Fire => s.push(Command::Fire),
-            Action::Aim(arc) => s.aim(arc, self.ui.panel.aim_target),
-            Action::Reset => s.reset(),
-            Action::ToggleRecord => s.toggle_recording(),
-            Action::Replay(path) => self.replay(&path),
+            Action::Fire => s.push(Command::Fire)?,
+            Action::Aim(arc) => s.aim(arc, self.ui.panel.aim_target)?,
+            Action::Reset => s.reset()?,
+            Action::ToggleRecord => s.toggle_recording()?,
+            Action::Replay(path) => self.replay(&path)?,
             Action::GoLive => {
-                if s.go_live() {
-                    self.ui.panel.sync(&self.session);
-                    self.retitle();
-                } else {
-                    s.last_error = Some("go live: nothing is replaying".into());
+                if !s.go_live() {
+                    return Err("go live: nothing is replaying".into());
                 }
+                self.ui.panel.sync(&self.session);
+                self.ui.panel.refused = None;
+                self.retitle();
             }
             Action::PickScene(path) => self.load_scene(&path, false),
-            Action::SetCompare(list) => s.set_compare(list),
+            Action::SetCompare(list) => s.set_compare(list)?,
             Action::ToggleCompare => {
                 let list = if s.is_comparing() {
                     Vec::new()
                 } else {
                     self.ui.panel.compare_pick.clone()
                 };
-                s.set_compare(list);
+                s.set_compare(list)?;
             }
             Action::ToggleTrails => self.ui.toggles.trails = !self.ui.toggles.trails,
             Action::ToggleGhosts => self.ui.toggles.ghosts = !self.ui.toggles.ghosts,
@@ -83,26 +97,26 @@ impl App {
             Action::TogglePlots => self.ui.toggles.plots = !self.ui.toggles.plots,
             Action::ToggleMarkers => self.ui.toggles.markers = !self.ui.toggles.markers,
             Action::ToggleVectors => self.ui.toggles.vectors = !self.ui.toggles.vectors,
-            Action::SetPolicy(name) => s.set_policy_named(&name),
+            Action::SetPolicy(name) => s.set_policy_named(&name)?,
             Action::SetDrawMode(mode) => s.set_draw_mode(mode),
             Action::TogglePacing => self.ui.toggles.pacing = !self.ui.toggles.pacing,
             Action::ToggleJudder => self.ui.toggles.judder = !self.ui.toggles.judder,
             Action::SetPacingBody(i) => s.set_pacing_body(i),
             Action::HoverBody(n) => {
                 let at = super::pick::body_on_screen(s, &self.view.camera, &self.view.viewport, n);
-                self.hover_script(at, format!("hover body {n}"));
+                self.hover_script(at, format!("hover body {n}"))?;
             }
             Action::HoverMarker(kind) => {
                 let at =
                     super::pick::marker_on_screen(s, &self.view.camera, &self.view.viewport, kind);
                 let name = super::pick::marker_name(kind);
-                self.hover_script(at, format!("hover marker ({name})"));
+                self.hover_script(at, format!("hover marker ({name})"))?;
             }
             Action::PinProbe => {
                 self.ui.probe_pinned = self.ui.probe.is_some() && !self.ui.probe_pinned
             }
-            Action::Drag(grab, dx, dy) => self.scripted_drag(grab, dx, dy),
-            Action::Click(at) => self.scripted_click(&at),
+            Action::Drag(grab, dx, dy) => self.scripted_drag(grab, dx, dy)?,
+            Action::Click(at) => self.scripted_click(&at)?,
             Action::SaveSetup => {
                 let dir = s.recordings_dir.clone();
                 self.ui.panel.saved_note = Some(match s.save_setup(&dir) {
@@ -124,41 +138,38 @@ impl App {
             }
             Action::Quit => self.quit(),
         }
+        Ok(())
     }
 
-    fn set_step(&mut self, dt: f64, substeps: u32) {
-        match self.session.set_step(dt, substeps) {
-            Ok(()) => self.ui.panel.sync(&self.session),
-            Err(e) => self.session.last_error = Some(e),
-        }
+    /// Changes the step; the panel's step fields follow unless it is refused.
+    fn set_step(&mut self, dt: f64, substeps: u32) -> Result<(), String> {
+        self.session.set_step(dt, substeps)?;
+        self.ui.panel.sync(&self.session);
+        Ok(())
     }
 
     /// Replays `path` in the window; a file that cannot be replayed leaves the session alone.
-    fn replay(&mut self, path: &std::path::Path) {
-        match self.session.start_replay(path, None) {
-            Ok(()) => {
-                self.ui.panel.sync(&self.session);
-                self.rewatch();
-                self.retitle();
-                self.view.needs_framing = true;
-            }
-            Err(e) => self.session.last_error = Some(e.to_string()),
-        }
+    fn replay(&mut self, path: &std::path::Path) -> Result<(), String> {
+        self.session
+            .start_replay(path, None)
+            .map_err(|e| e.to_string())?;
+        self.ui.panel.sync(&self.session);
+        self.rewatch();
+        self.retitle();
+        self.view.needs_framing = true;
+        Ok(())
     }
 
     /// A script's click: on the 3D view it pins the probe there (what a real click does); on
     /// the panel it is a press and a release fed to egui over two frames, so the button under
-    /// it acts as if clicked.
-    fn scripted_click(&mut self, at: &super::input::ClickAt) {
+    /// it acts as if clicked. Refused for a control the panel does not show.
+    fn scripted_click(&mut self, at: &super::input::ClickAt) -> Result<(), String> {
         use super::input::ClickAt;
         let point = match at {
             ClickAt::Point(x, y) => egui::pos2(*x, *y),
             ClickAt::Control(label) => match self.ui.controls.0.iter().find(|(l, _)| l == label) {
                 Some((_, rect)) => rect.center(),
-                None => {
-                    self.session.last_error = Some(format!("click {label}: no such control shown"));
-                    return;
-                }
+                None => return Err(format!("click {label}: no such control shown")),
             },
         };
         let ppp = self.host.egui.pixels_per_point();
@@ -178,8 +189,7 @@ impl App {
                 (px, py),
                 super::pick::PICK_RADIUS * ppp,
             );
-            self.apply(Action::PinProbe);
-            return;
+            return self.act(Action::PinProbe);
         }
         let button = |pressed| egui::Event::PointerButton {
             pos: point,
@@ -190,6 +200,7 @@ impl App {
         self.script
             .queue_input(vec![egui::Event::PointerMoved(point), button(true)]);
         self.script.queue_input(vec![button(false)]);
+        Ok(())
     }
 
     /// Where `grab` is drawn now (physical px).
@@ -208,11 +219,11 @@ impl App {
         self.view.camera.project(p, &self.view.viewport)
     }
 
-    /// A script's drag: press on `grab`, move by (dx, dy), release.
-    fn scripted_drag(&mut self, grab: Grab, dx: f32, dy: f32) {
+    /// A script's drag: press on `grab`, move by (dx, dy), release; refused for what is not in
+    /// view.
+    fn scripted_drag(&mut self, grab: Grab, dx: f32, dy: f32) -> Result<(), String> {
         let Some(start) = self.grab_position(grab) else {
-            self.session.last_error = Some(format!("drag {grab:?}: it is not in view"));
-            return;
+            return Err(format!("drag {grab:?}: it is not in view"));
         };
         let world = self.session.world();
         let mut drag = SetupDrag::begin(grab, start, *world.launcher(), &world.contacts().targets);
@@ -222,24 +233,25 @@ impl App {
             start + glam::Vec2::new(dx, dy),
         );
         self.ui.setup_drag = Some(drag);
-        self.end_setup_drag();
+        self.end_setup_drag()
     }
 
-    /// Ends a drag: the launcher's change as a `launch` command, a target's as a setup change.
-    fn end_setup_drag(&mut self) {
+    /// Ends a drag: the launcher's change as a `launch` command, a target's as a setup change;
+    /// returns why the session refused it.
+    fn end_setup_drag(&mut self) -> Result<(), String> {
         let Some(drag) = self.ui.setup_drag.take() else {
-            return;
+            return Ok(());
         };
         match drag.preview {
             Preview::Target(i, at) => {
-                self.session.move_target(i, at);
+                let moved = self.session.move_target(i, at);
                 self.ui.panel.sync(&self.session);
+                moved
             }
-            Preview::Launcher(_) => {
-                if let Some(command) = drag.command() {
-                    self.session.push(command);
-                }
-            }
+            Preview::Launcher(_) => match drag.command() {
+                Some(command) => self.session.push(command),
+                None => Ok(()),
+            },
         }
     }
 
@@ -277,12 +289,11 @@ impl App {
         )
     }
 
-    /// A script's hover: the pointer goes to `at`, or the panel says it could not.
-    fn hover_script(&mut self, at: Option<(f32, f32)>, what: String) {
-        match at {
-            Some((x, y)) => self.ui.pointer.position = Some((f64::from(x), f64::from(y))),
-            None => self.session.last_error = Some(format!("{what}: nothing there to hover")),
-        }
+    /// A script's hover: the pointer goes to `at`, or it says it could not.
+    fn hover_script(&mut self, at: Option<(f32, f32)>, what: String) -> Result<(), String> {
+        let (x, y) = at.ok_or_else(|| format!("{what}: nothing there to hover"))?;
+        self.ui.pointer.position = Some((f64::from(x), f64::from(y)));
+        Ok(())
     }
 
     pub(super) fn on_pointer(&mut self, event: &WindowEvent, over_ui: bool) {
@@ -293,7 +304,9 @@ impl App {
                     && state == ElementState::Released
                     && self.ui.setup_drag.is_some() =>
             {
-                self.end_setup_drag();
+                if let Err(why) = self.end_setup_drag() {
+                    self.refuse(why);
+                }
                 self.ui.pointer.dragging = None;
             }
             WindowEvent::MouseInput { state, button, .. }

@@ -76,6 +76,10 @@ pub struct PanelState {
     pub file_note: Option<(String, bool)>,
     /// Where the last "Save plots" or "Save setup" wrote, or why it could not.
     pub saved_note: Option<String>,
+    /// The last command or setting the session refused, and [`Session::replays_opened`] when it
+    /// was refused: shown until another refusal replaces it, a replay opens (a seek in one
+    /// too) or the session goes live ([`PanelState::refusal`]).
+    pub refused: Option<(String, u64)>,
     /// Bundled scenes, (name, path).
     pub scenes: Vec<(String, PathBuf)>,
     /// Where the frames come from (an emulated display, steady frames, the real clock).
@@ -105,6 +109,7 @@ impl PanelState {
             plot_tab: 0,
             file_note: None,
             saved_note: None,
+            refused: None,
             scenes,
             frames_note: "the real clock".into(),
             pacing_view: false,
@@ -122,6 +127,19 @@ impl PanelState {
         self.azimuth_deg = l.azimuth_deg;
         self.dt_ms = session.scene().dt() * 1e3;
         self.substeps = session.scene().substeps;
+    }
+
+    /// Shows `why` as the session's last refusal.
+    pub fn refuse(&mut self, session: &Session, why: String) {
+        self.refused = Some((why, session.replays_opened()));
+    }
+
+    /// The refusal to show: the last one, unless a replay opened since.
+    pub fn refusal(&self, session: &Session) -> Option<&str> {
+        match &self.refused {
+            Some((why, opened)) if *opened == session.replays_opened() => Some(why),
+            _ => None,
+        }
     }
 }
 
@@ -246,7 +264,7 @@ fn header(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<
                 }
             }
         });
-    if let Some(e) = &session.last_error {
+    if let Some(e) = state.refusal(session) {
         ui.colored_label(Color32::LIGHT_RED, e);
     }
 }

@@ -18,6 +18,11 @@
 //! see [`replaying`]). Every lane carries the stability pre-check of its world
 //! ([`crate::stability::check_world`]), recomputed when its integrator, dt, substeps or scene
 //! change.
+//!
+//! A call the session refuses returns why, in the words the panel shows (`Err(String)`); a frame
+//! returns the last refusal it met (a command refused as it was applied, a seek while playing
+//! backwards). The session keeps no text for the panel: what it keeps is data, such as the tick
+//! a new command dropped the recorded future from ([`Session::future_dropped_at`]).
 
 mod lane;
 pub mod pacing;
@@ -107,8 +112,8 @@ pub struct Session {
     recordings: Vec<FinishedRecording>,
     replay: Option<SessionReplay>,
     last_replay: Option<ReplayVerdict>,
-    /// The last command or setting that was refused, for the panel.
-    pub last_error: Option<String>,
+    /// Replays opened, a seek in one opening it again ([`Session::replays_opened`]).
+    replays_opened: u64,
     /// Where recordings without a named file go ([`recording::DEFAULT_DIR`] under it); empty,
     /// the default, is the working directory.
     pub recordings_dir: PathBuf,
@@ -136,7 +141,8 @@ impl Session {
 
     /// A session whose compare lanes each have an integrator and their own dt and substeps,
     /// at equal cost (every lane the first one's force evaluations per simulated second) or
-    /// not.
+    /// not. If the scene refuses every compared integrator, the session runs one lane of the
+    /// scene's own (the window's `--compare` refuses such a list before the window opens).
     pub fn with_lanes(
         scene: Scene,
         path: &Path,
@@ -165,7 +171,7 @@ impl Session {
             recordings: Vec::new(),
             replay: None,
             last_replay: None,
-            last_error: None,
+            replays_opened: 0,
             recordings_dir: PathBuf::new(),
             history_budget: crate::timeline::DEFAULT_BUDGET,
             reverse: None,
@@ -174,7 +180,8 @@ impl Session {
             refresh: DEFAULT_REFRESH,
             pacing: pacing::PacingLog::default(),
         };
-        session.build_lanes();
+        // The fallback's refusal has no panel to go to yet (see the doc comment).
+        let _ = session.build_lanes();
         session
     }
 
@@ -217,10 +224,22 @@ impl Session {
         scenes
     }
 
-    fn build_lanes(&mut self) {
+    /// Builds every lane afresh at tick 0. If the scene refuses every compared integrator
+    /// (`exact` without a closed form), compare mode ends and one lane of the scene's integrator
+    /// runs; the refusal says so.
+    fn build_lanes(&mut self) -> Result<(), String> {
+        let mut refused = Ok(());
+        let mut scenes = self.lane_scenes();
+        if scenes.is_empty() {
+            refused = Err(format!(
+                "none of the compared integrators can run this scene; showing {}",
+                self.scene.integrator
+            ));
+            self.compare.clear();
+            scenes = self.lane_scenes();
+        }
         let origin = self.bounds.center();
-        self.lanes = self
-            .lane_scenes()
+        self.lanes = scenes
             .into_iter()
             .map(|scene| {
                 let mut world = World::new(&scene);
@@ -230,17 +249,9 @@ impl Session {
                 Lane::new(sim, origin, Some(self.history_budget))
             })
             .collect();
-        if self.lanes.is_empty() {
-            // Every compared integrator was refused (exact without a closed form): fall back.
-            self.last_error = Some(format!(
-                "none of the compared integrators can run this scene; showing {}",
-                self.scene.integrator
-            ));
-            self.compare.clear();
-            self.build_lanes();
-        }
         self.last = FrameTicks::default();
         self.pacing.rebase();
+        refused
     }
 
     /// Applies the shared clock settings (pause, time scale) to a new lane's clock.
@@ -255,14 +266,16 @@ impl Session {
     /// One frame: every running lane advances its clock by `delta` and runs the ticks it grants
     /// (the first lane through its recorder or its replay, when it has one). A lane that
     /// diverges stops and pauses every clock; a recording of the first lane ends with its
-    /// divergence. The frame's display time is not known ([`Session::frame_shown`]).
-    pub fn frame(&mut self, delta: Duration) {
-        self.frame_shown(delta, Shown::Unknown);
+    /// divergence. The frame's display time is not known ([`Session::frame_shown`]). Returns
+    /// the last refusal the frame met: a command refused as it was applied, or a seek that
+    /// failed while playing backwards.
+    pub fn frame(&mut self, delta: Duration) -> Option<String> {
+        self.frame_shown(delta, Shown::Unknown)
     }
 
     /// [`Session::frame`] for a frame shown at `shown`: the pacing log measures what it drew
     /// against the exact motion then.
-    pub fn frame_shown(&mut self, delta: Duration, shown: Shown) {
+    pub fn frame_shown(&mut self, delta: Duration, shown: Shown) -> Option<String> {
         let input = pacing::FrameInput {
             delta,
             shown,
@@ -272,15 +285,18 @@ impl Session {
             time_scale: self.clock.time_scale,
             draw: self.draw,
         };
-        self.advance(delta);
+        let refused = self.advance(delta);
         self.pacing.record(&self.lanes[0], input);
+        refused
     }
 
-    fn advance(&mut self, delta: Duration) {
-        if self.reverse_frame(delta) {
+    /// Runs the frame's ticks (or goes back, playing backwards); returns the last refusal met.
+    fn advance(&mut self, delta: Duration) -> Option<String> {
+        if self.reverse.is_some() {
             self.last = FrameTicks::default();
-            return;
+            return self.reverse_frame(delta).err();
         }
+        let mut refused = None;
         let mut first = None;
         let mut alarm = false;
         for (i, lane) in self.lanes.iter_mut().enumerate() {
@@ -307,7 +323,7 @@ impl Session {
                 Err(LoopError::Diverged(_)) => {}
                 Err(e) => {
                     lane.refused += 1;
-                    self.last_error = Some(e.to_string());
+                    refused = Some(e.to_string());
                 }
             }
             // A replay's verifier takes the loop's divergence in; the world still has it.
@@ -336,6 +352,7 @@ impl Session {
         if alarm {
             self.alarm();
         }
+        refused
     }
 
     /// Pauses every clock on a divergence or a replay's mismatch, so the state stays on screen;
@@ -347,52 +364,44 @@ impl Session {
         }
     }
 
-    /// While replaying, refuses `what` (it would change the simulation) with a note for the
-    /// panel, and returns true.
-    fn refuse_while_replaying(&mut self, what: &str) -> bool {
-        if self.replay.is_some() {
-            self.last_error = Some(format!(
+    /// While replaying, refuses `what` (it would change the simulation), saying why.
+    fn refuse_while_replaying(&self, what: &str) -> Result<(), String> {
+        match self.replay {
+            Some(_) => Err(format!(
                 "replaying: {what} is off (Go live, or L, takes over from this tick)"
-            ));
+            )),
+            None => Ok(()),
         }
-        self.replay.is_some()
     }
 
     /// Queues `command` for the next tick of every lane. An integrator switch is refused in
     /// compare mode (each lane is its integrator); every command is refused while replaying.
-    pub fn push(&mut self, command: Command) {
-        if self.refuse_while_replaying(&format!("`{command}`")) {
-            return;
-        }
+    pub fn push(&mut self, command: Command) -> Result<(), String> {
+        self.refuse_while_replaying(&format!("`{command}`"))?;
         if let (Command::SetIntegrator(_), true) = (command, self.is_comparing()) {
-            self.last_error = Some("compare mode runs every integrator at once".into());
-            return;
+            return Err("compare mode runs every integrator at once".into());
         }
-        if let Command::SetIntegrator(i) = command
-            && let Err(e) = check_integrator(i, self.lanes[0].sim.world.forces())
-        {
-            self.last_error = Some(e.to_string());
-            return;
+        if let Command::SetIntegrator(i) = command {
+            check_integrator(i, self.lanes[0].sim.world.forces()).map_err(|e| e.to_string())?;
         }
         self.take_over_future();
         for lane in &mut self.lanes {
             lane.sim.push(command);
             lane.pushed += 1;
         }
+        Ok(())
     }
 
     /// Aims every lane at the scene's target `target` on `arc` and fires: each lane solves the
     /// shot for its own integrator, dt and substeps with [`crate::firing::solve`] (speed from
     /// its launcher, the target where it is at this tick), then gets its own `launch` command
     /// with the solved angles and a `fire`, so recordings and replays see them. A lane whose
-    /// solve fails fires nothing; its note says why.
-    pub fn aim(&mut self, arc: crate::exact::Arc, target: usize) {
-        if self.refuse_while_replaying("aim") {
-            return;
-        }
+    /// solve fails fires nothing; its note says why. Refused while replaying, and for a target
+    /// the scene does not have.
+    pub fn aim(&mut self, arc: crate::exact::Arc, target: usize) -> Result<(), String> {
+        self.refuse_while_replaying("aim")?;
         if self.scene.targets.get(target).is_none() {
-            self.last_error = Some(format!("aim: the scene has no target {target}"));
-            return;
+            return Err(format!("aim: the scene has no target {target}"));
         }
         self.take_over_future();
         for lane in &mut self.lanes {
@@ -429,35 +438,36 @@ impl Session {
                 outcome,
             });
         }
+        Ok(())
     }
 
     /// Puts the bodies back with a `Reset` command (recordable; the tick keeps counting), which
     /// also lifts a divergence: the stopped lanes run again and a pause the divergence caused
     /// ends. In compare mode after a divergence it restarts every lane at tick 0 instead, so
-    /// the lanes stay on one tick.
-    pub fn reset(&mut self) {
-        if self.refuse_while_replaying("reset") {
-            return;
-        }
+    /// the lanes stay on one tick. Refused while replaying.
+    pub fn reset(&mut self) -> Result<(), String> {
+        self.refuse_while_replaying("reset")?;
         let stopped = self.lanes.iter().any(|l| l.stopped.is_some());
         let resume = stopped && self.paused_by_alarm;
-        if stopped && self.is_comparing() {
-            self.restart(None, "reset after a divergence in compare mode");
+        let done = if stopped && self.is_comparing() {
+            self.restart(None, "reset after a divergence in compare mode")
         } else {
             for lane in &mut self.lanes {
                 lane.stopped = None;
             }
-            self.push(Command::Reset);
-        }
+            self.push(Command::Reset)
+        };
         if resume {
             self.set_paused(false);
         }
+        done
     }
 
     /// Starts again at tick 0, with `scene` if given (a reload or a pick: the file's own dt and
     /// integrator; it ends a replay), else the same scene with the integrator chosen in the
-    /// running session (refused while replaying). A recording ends first, noting `why`.
-    pub fn restart(&mut self, scene: Option<(Scene, PathBuf)>, why: &str) {
+    /// running session (refused while replaying). A recording ends first, noting `why`. If the
+    /// scene refuses every compared integrator, compare mode ends and the refusal says so.
+    pub fn restart(&mut self, scene: Option<(Scene, PathBuf)>, why: &str) -> Result<(), String> {
         match scene {
             Some((scene, path)) => {
                 self.end_replay();
@@ -467,11 +477,13 @@ impl Session {
                 self.path = path;
                 self.embedded = false;
             }
-            None if self.refuse_while_replaying(why) => return,
-            None => self.keep_integrator_choice(),
+            None => {
+                self.refuse_while_replaying(why)?;
+                self.keep_integrator_choice();
+            }
         }
         self.stop_recording(&format!("{why}: the world restarted at tick 0"));
-        self.build_lanes();
+        self.build_lanes()
     }
 
     /// Outside compare mode, the integrator the user switched to becomes the one a restart
@@ -505,13 +517,15 @@ impl Session {
             _ => "dt changed",
         };
         (self.scene.timestep, self.scene.substeps) = (scene.timestep, scene.substeps);
-        self.restart(None, why);
-        Ok(())
+        // The lanes were running this scene: a new step cannot make it refuse them all.
+        self.restart(None, why)
     }
 
     /// Switches compare mode (an empty list turns it off) and restarts at tick 0; lanes of
-    /// integrators already compared keep their own dt and substeps.
-    pub fn set_compare(&mut self, integrators: Vec<Integrator>) {
+    /// integrators already compared keep their own dt and substeps. Refused while replaying; if
+    /// the scene refuses every integrator listed, one lane of its own runs and the refusal says
+    /// so.
+    pub fn set_compare(&mut self, integrators: Vec<Integrator>) -> Result<(), String> {
         let lanes = integrators
             .into_iter()
             .map(|i| {
@@ -522,48 +536,49 @@ impl Session {
                     .unwrap_or(CompareLane::of(i))
             })
             .collect();
-        self.set_compare_lanes(lanes);
+        self.set_compare_lanes(lanes)
     }
 
-    /// Compare mode with these lanes (integrator, dt, substeps each) and restarts at tick 0.
-    pub fn set_compare_lanes(&mut self, lanes: Vec<CompareLane>) {
-        if self.refuse_while_replaying("compare mode") {
-            return;
-        }
+    /// Compare mode with these lanes (integrator, dt, substeps each) and restarts at tick 0,
+    /// as [`Session::set_compare`] does.
+    pub fn set_compare_lanes(&mut self, lanes: Vec<CompareLane>) -> Result<(), String> {
+        self.refuse_while_replaying("compare mode")?;
         self.keep_integrator_choice();
         self.compare = lanes;
         self.stop_recording("compare mode switched: the world restarted at tick 0");
-        self.build_lanes();
+        self.build_lanes()
     }
 
-    /// Sets compare lane `i`'s own dt and substeps (`None`: the scene's) and restarts at tick 0.
-    pub fn set_lane_step(&mut self, i: usize, dt: Option<f64>, substeps: Option<u32>) {
+    /// Sets compare lane `i`'s own dt and substeps (`None`: the scene's) and restarts at tick 0
+    /// (nothing happens for a lane `i` that is not there). A step the scene refuses changes
+    /// nothing and says why.
+    pub fn set_lane_step(
+        &mut self,
+        i: usize,
+        dt: Option<f64>,
+        substeps: Option<u32>,
+    ) -> Result<(), String> {
         let mut lanes = self.compare.clone();
         let Some(lane) = lanes.get_mut(i) else {
-            return;
+            return Ok(());
         };
         let trial = CompareLane {
             dt,
             substeps,
             ..*lane
         };
-        if let Err(e) = trial.apply(&self.scene) {
-            self.last_error = Some(e.to_string());
-            return;
-        }
+        trial.apply(&self.scene).map_err(|e| e.to_string())?;
         *lane = trial;
-        self.set_compare_lanes(lanes);
+        self.set_compare_lanes(lanes)
     }
 
     /// Gives every compare lane the first lane's force evaluations per simulated second (or
-    /// each its own step again) and restarts at tick 0.
-    pub fn set_equal_cost(&mut self, on: bool) {
-        if self.refuse_while_replaying("equal cost") {
-            return;
-        }
+    /// each its own step again) and restarts at tick 0. Refused while replaying.
+    pub fn set_equal_cost(&mut self, on: bool) -> Result<(), String> {
+        self.refuse_while_replaying("equal cost")?;
         self.equal_cost = on;
         self.stop_recording("equal cost switched: the world restarted at tick 0");
-        self.build_lanes();
+        self.build_lanes()
     }
 
     /// Whether compare lanes run at equal cost.
@@ -595,15 +610,17 @@ impl Session {
         }
     }
 
-    /// Sets the time scale of every lane (0 to 100).
-    pub fn set_time_scale(&mut self, scale: f64) {
+    /// Sets the time scale of every lane (0 to 100); a scale out of range changes nothing and
+    /// says why.
+    pub fn set_time_scale(&mut self, scale: f64) -> Result<(), String> {
         for lane in &mut self.lanes {
-            if let Err(e) = lane.sim.clock.set_time_scale(scale) {
-                self.last_error = Some(e.to_string());
-                return;
-            }
+            lane.sim
+                .clock
+                .set_time_scale(scale)
+                .map_err(|e| e.to_string())?;
         }
         self.clock.time_scale = scale;
+        Ok(())
     }
 
     /// Whether the clocks are paused.
@@ -708,17 +725,17 @@ impl Session {
         }
     }
 
-    /// [`Session::set_policy`] by name ([`LoopPolicy::NAMES`]), with the session's refresh.
-    pub fn set_policy_named(&mut self, name: &str) {
-        match LoopPolicy::from_name(name, self.refresh) {
-            Some(p) => self.set_policy(p),
-            None => {
-                self.last_error = Some(format!(
-                    "loop policy: unknown `{name}`, expected one of {}",
-                    LoopPolicy::NAMES.join(", ")
-                ));
-            }
-        }
+    /// [`Session::set_policy`] by name ([`LoopPolicy::NAMES`]), with the session's refresh; an
+    /// unknown name is refused.
+    pub fn set_policy_named(&mut self, name: &str) -> Result<(), String> {
+        let policy = LoopPolicy::from_name(name, self.refresh).ok_or_else(|| {
+            format!(
+                "loop policy: unknown `{name}`, expected one of {}",
+                LoopPolicy::NAMES.join(", ")
+            )
+        })?;
+        self.set_policy(policy);
+        Ok(())
     }
 
     /// The refresh interval the snapping and quantising policies are given.

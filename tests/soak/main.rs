@@ -76,7 +76,7 @@ fn the_window_session_in_four_lanes_recording_stays_within_its_memory_budgets() 
     ];
     let mut session = Session::new(scene::load(&path).unwrap(), &path, lanes);
     session.set_history_budget(TIMELINE);
-    session.restart(None, "soak");
+    session.restart(None, "soak").unwrap();
     let dir = scratch("session");
     let file = dir.join("soak.vrec");
     session.start_recording(Some(file.clone())).unwrap();
@@ -92,12 +92,12 @@ fn the_window_session_in_four_lanes_recording_stays_within_its_memory_budgets() 
         // A shot every 10 s, taken away again 5 s later: commands in the timeline and the
         // recording all along, with the body count bounded.
         if n % 600 == 0 {
-            session.push(Command::Fire);
+            session.push(Command::Fire).unwrap();
         }
         if n % 600 == 300 {
             let ids = session.world().bodies().id.clone();
             if let Some(last) = ids.last().filter(|_| ids.len() > 1) {
-                session.push(Command::Despawn(*last));
+                session.push(Command::Despawn(*last)).unwrap();
             }
         }
         session.frame(frame);

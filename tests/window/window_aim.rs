@@ -52,7 +52,7 @@ fn in_compare_mode_each_lane_aims_for_itself_and_hits() {
     for arc in [Arc::High, Arc::Low] {
         let mut s = session("seed", lanes.clone());
         s.frame(FRAME);
-        s.aim(arc, 0);
+        s.aim(arc, 0).unwrap();
         // Each lane got its own launch: different integrators, different elevations.
         let elevations: Vec<f64> = s
             .lanes()
@@ -94,7 +94,7 @@ fn aiming_at_a_moving_target_leads_it() {
     for _ in 0..10 {
         s.frame(FRAME);
     }
-    s.aim(Arc::Low, 0);
+    s.aim(Arc::Low, 0).unwrap();
     for miss in misses(&mut s, 400) {
         assert!(miss < HIT, "{miss}");
     }
@@ -103,15 +103,15 @@ fn aiming_at_a_moving_target_leads_it() {
 #[test]
 fn a_scene_without_targets_says_so_and_a_failed_solve_fires_nothing() {
     let mut s = session("spring", Vec::new());
-    s.aim(Arc::High, 0);
-    assert!(s.last_error.as_deref().unwrap().contains("no target 0"));
+    let e = s.aim(Arc::High, 0).unwrap_err();
+    assert!(e.contains("no target 0"), "{e}");
     // 5 m/s cannot reach the seed's target: the note says why and nothing is fired.
     let path = support::crate_path("assets/scenes/seed.ron");
     let mut scene = scene::load(&path).unwrap();
     scene.launcher.speed = 5.0;
     let mut s = Session::new(scene, &path, Vec::new());
     let bodies = s.world().bodies().len();
-    s.aim(Arc::High, 0);
+    s.aim(Arc::High, 0).unwrap();
     s.frame(Duration::from_millis(500));
     let note = s.lanes()[0].aim.as_ref().unwrap();
     assert!(note.outcome.as_ref().unwrap_err().contains("out of reach"));

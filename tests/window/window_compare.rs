@@ -93,7 +93,7 @@ fn each_lane_keeps_its_own_dt_and_substeps_and_the_timeline_follows_by_sim_time(
     // Seek the first lane to tick 54 (0.54 s): the second goes to its last tick at or before
     // that, its tick 10 (0.50 s). (The hashes kept are the frames' ends: every second tick of
     // the first lane, every tick of the second.)
-    s.seek(54);
+    s.seek(54).unwrap();
     assert_eq!(s.lanes()[0].sim.world.tick(), 54);
     assert_eq!(s.lanes()[1].sim.world.tick(), 10);
     for (k, l) in s.lanes().iter().enumerate() {
@@ -102,7 +102,7 @@ fn each_lane_keeps_its_own_dt_and_substeps_and_the_timeline_follows_by_sim_time(
         assert_eq!(state_hash(&l.sim.world), first, "lane {k} at tick {tick}");
     }
     // A lane's step set in the panel: restarts at tick 0 with it.
-    s.set_lane_step(0, Some(0.02), Some(2));
+    s.set_lane_step(0, Some(0.02), Some(2)).unwrap();
     assert_eq!(s.lanes()[0].sim.world.dt(), 0.02);
     assert_eq!(s.lanes()[0].sim.world.substeps(), 2);
     assert_eq!(s.world().tick(), 0);

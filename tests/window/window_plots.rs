@@ -33,7 +33,7 @@ fn an_hour_at_60_hz_in_four_lanes_stays_within_the_stated_budget() {
     ];
     // The drag scene at 60 Hz (a closed form, so every lane has an error to plot).
     let mut s = session("drag", lanes);
-    s.run_ticks(60 * 3600);
+    s.run_ticks(60 * 3600).unwrap();
     assert_eq!(s.world().tick(), 216_000);
     for lane in s.lanes() {
         let series = &lane.history.series;
@@ -92,7 +92,7 @@ fn the_plotted_error_is_the_error_column_and_the_energy_error_is_relative() {
 fn save_plots_writes_the_series_as_csv_and_the_plots_as_png() {
     let dir = support::scratch_dir("save_plots_writes_the_series");
     let mut s = session("seed", vec![Integrator::ExplicitEuler, Integrator::Rk4]);
-    s.run_ticks(20);
+    s.run_ticks(20).unwrap();
     let (csv, png) = volley::app::panel::plots::write(&dir, &s).unwrap();
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
@@ -173,7 +173,7 @@ fn a_scene_without_a_closed_form_is_measured_against_the_numerical_reference() {
     // reference, so the error column and the plots have numbers; RK4 at 60 Hz is far closer
     // to it than explicit Euler.
     let mut s = session("wind", vec![Integrator::ExplicitEuler, Integrator::Rk4]);
-    s.run_ticks(60);
+    s.run_ticks(60).unwrap();
     let error = |lane: usize| {
         let l = &s.lanes()[lane];
         match l.history.references.error(&l.sim.world, 0) {
@@ -204,7 +204,7 @@ fn body_0_is_drawn_only_where_it_is_not_the_largest_error() {
     use volley::app::panel::plots::body_zero_differs;
     // One body: its error is the largest at every tick, so its line would lie on that one.
     let mut one = session("drag", vec![Integrator::ExplicitEuler, Integrator::Rk4]);
-    one.run_ticks(120);
+    one.run_ticks(120).unwrap();
     for lane in one.lanes() {
         assert!(!lane.history.series.error_first.buckets().is_empty());
         assert!(!body_zero_differs(&lane.history.series));
@@ -212,7 +212,7 @@ fn body_0_is_drawn_only_where_it_is_not_the_largest_error() {
     // Three masses on one launch: the lightest (not body 0) drifts furthest from its closed
     // form under explicit Euler, so body 0's series parts from the largest.
     let mut three = session("drag_masses", vec![Integrator::ExplicitEuler]);
-    three.run_ticks(120);
+    three.run_ticks(120).unwrap();
     assert!(body_zero_differs(&three.lanes()[0].history.series));
 }
 

@@ -21,7 +21,7 @@ fn markers_fall_every_tenth_and_second_at_the_apex_and_at_each_impact() {
     // The seed under RK4 (exact under constant gravity) at h = 0.2 s: the shot spends about
     // 5.4 s in the air from t = 5 s and then bounces.
     let mut s = session("seed", vec![Integrator::Rk4]);
-    s.run_ticks(40);
+    s.run_ticks(40).unwrap();
     let track = &s.lanes()[0].history.probe.tracks()[0];
     let count = |k: MarkerKind| track.markers.iter().filter(|m| m.kind == k).count();
     // 40 ticks of 0.2 s: 8 s, so marks at 0.1 .. 8.0 s: 80, of which 8 whole seconds.
@@ -67,7 +67,7 @@ fn markers_fall_every_tenth_and_second_at_the_apex_and_at_each_impact() {
 #[test]
 fn the_probe_reads_state_energy_and_error_at_a_marker() {
     let mut s = session("seed", vec![Integrator::ExplicitEuler]);
-    s.run_ticks(20);
+    s.run_ticks(20).unwrap();
     let lane = &s.lanes()[0];
     let track = &lane.history.probe.tracks()[0];
     let apex = track
@@ -160,7 +160,7 @@ fn a_script_hovers_and_pins_the_probe_on_an_apex_in_the_real_window() {
 fn over_a_bullet_the_probe_reads_its_mach_number_and_the_air() {
     // The bundled rifle: a G7 bullet at 838.2 m/s in the ICAO atmosphere with a 3 m/s crosswind.
     let mut s = session("rifle", vec![Integrator::Rk4]);
-    s.run_ticks(30);
+    s.run_ticks(30).unwrap();
     let lane = &s.lanes()[0];
     let track = &lane.history.probe.tracks()[0];
     let mark = &track.markers[0];
@@ -199,7 +199,7 @@ fn over_a_spun_ball_and_a_rocket_the_probe_reads_the_spin_the_thrust_and_the_mas
     // The fly ball at its 1 s marker: Nathan's decay, exp(-age |u| / (30 s * 146.7 ft/s)), of
     // its 2500 rpm (no wind, so |u| = |V|), printed to the rpm.
     let mut s = session("baseball", vec![Integrator::Rk4]);
-    s.run_ticks(90);
+    s.run_ticks(90).unwrap();
     let lane = &s.lanes()[0];
     let track = &lane.history.probe.tracks()[0];
     let mark = track.markers.iter().find(|m| m.at.t >= 1.0).unwrap().at;
@@ -219,7 +219,7 @@ fn over_a_spun_ball_and_a_rocket_the_probe_reads_the_spin_the_thrust_and_the_mas
     assert!(probe.motor.is_none());
     // The rocket at 3 s, after burnout: no thrust, the dry mass (57.1 g less 10.8 g).
     let mut s = session("model_rocket", vec![Integrator::Rk4]);
-    s.run_ticks(200);
+    s.run_ticks(200).unwrap();
     let lane = &s.lanes()[0];
     let track = &lane.history.probe.tracks()[0];
     let mark = track.markers.iter().find(|m| m.at.t >= 3.0).unwrap().at;

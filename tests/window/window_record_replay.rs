@@ -8,6 +8,7 @@ use crate::support;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+use volley::app::panel::PanelState;
 use volley::app::session::Session;
 use volley::clock::VirtualClock;
 use volley::hash::state_hash;
@@ -59,17 +60,17 @@ fn the_record_toggle_records_the_first_lane_from_its_tick_with_every_command_pus
         session.frame(HZ60);
     }
     // Pushed before the toggle, applied after it: the recording holds it.
-    session.push(Command::Fire);
+    session.push(Command::Fire).unwrap();
     let start = session.world().tick();
     session.start_recording(Some(file.clone())).unwrap();
     for i in 0..60 {
         match i {
             20 => {
-                session.push(launch(13.0));
-                session.push(Command::Fire);
+                session.push(launch(13.0)).unwrap();
+                session.push(Command::Fire).unwrap();
             }
             30 => session.set_paused(true),
-            31 => session.push(Command::Reset),
+            31 => session.push(Command::Reset).unwrap(),
             32 | 33 => session.single_step(),
             34 => session.set_paused(false),
             _ => {}
@@ -115,6 +116,7 @@ fn restarts_end_the_recording_with_its_footer_and_say_why() {
                 Some((scene::load(&path).unwrap(), path)),
                 "the scene file was saved",
             )
+            .unwrap()
         }),
     ];
     for (i, (why, restart)) in cases.into_iter().enumerate() {
@@ -209,11 +211,10 @@ fn the_default_file_is_named_after_the_scene_and_never_overwritten() {
     // The session's own toggle uses the same names, in its recordings folder.
     let mut session = coverage();
     session.recordings_dir = dir.clone();
-    session.toggle_recording();
-    assert_eq!(session.last_error, None);
+    assert_eq!(session.toggle_recording(), Ok(()));
     let path = session.recording().unwrap().path().to_path_buf();
     assert_eq!(path.parent().unwrap(), dir.join("recordings"));
-    session.toggle_recording();
+    session.toggle_recording().unwrap();
     assert!(Recording::open(&path).is_ok());
 }
 
@@ -228,10 +229,10 @@ fn a_default_folder_that_cannot_be_used_is_an_error_in_the_panel_not_a_hang() {
     let mut session = coverage();
     session.recordings_dir = dir.clone();
     let started = std::time::Instant::now();
-    session.toggle_recording();
+    let refused = session.toggle_recording();
     assert!(started.elapsed() < Duration::from_secs(5));
     assert!(session.recording().is_none());
-    let e = session.last_error.clone().expect("the refusal is shown");
+    let e = refused.expect_err("the refusal is shown");
     assert!(
         e.contains("recordings") && e.contains("cannot create its folder"),
         "{e}"
@@ -287,7 +288,7 @@ fn a_replay_in_the_window_runs_the_recorded_commands_and_verifies_every_tick() {
     let mut session = Session::for_replay(&file, None).unwrap();
     assert!(session.is_embedded());
     assert_eq!(session.scene().name, "replay");
-    session.set_time_scale(2.0);
+    session.set_time_scale(2.0).unwrap();
     for _ in 0..400 {
         session.frame(HZ60);
     }
@@ -305,6 +306,27 @@ fn a_replay_in_the_window_runs_the_recorded_commands_and_verifies_every_tick() {
     assert!(!session.is_paused(), "a replay that matches does not alarm");
 }
 
+/// The panel's red line keeps the last refusal until another replaces it or a replay opens:
+/// a seek in a replay opens it again at the new tick, a seek to the tick it is at does not.
+#[test]
+fn the_panels_refusal_stays_until_a_replay_opens_again() {
+    let (file, _, _) = record_coverage("refusal-line", 60);
+    let mut session = Session::for_replay(&file, None).unwrap();
+    let mut panel = PanelState::new(&session, Vec::new());
+    assert_eq!(panel.refusal(&session), None);
+    let fire = session.push(Command::Fire).unwrap_err();
+    panel.refuse(&session, fire.clone());
+    assert_eq!(session.frame(HZ60), None);
+    assert_eq!(panel.refusal(&session), Some(fire.as_str()));
+    session.seek(30).unwrap();
+    assert_eq!(panel.refusal(&session), None);
+    let reset = session.reset().unwrap_err();
+    assert!(reset.starts_with("replaying: reset is off"), "{reset}");
+    panel.refuse(&session, reset.clone());
+    session.seek(30).unwrap();
+    assert_eq!(panel.refusal(&session), Some(reset.as_str()));
+}
+
 #[test]
 fn while_replaying_commands_are_refused_and_going_live_takes_over_from_that_tick() {
     let (file, _, _) = record_coverage("go-live", 300);
@@ -313,17 +335,11 @@ fn while_replaying_commands_are_refused_and_going_live_takes_over_from_that_tick
         session.frame(HZ60);
     }
     let bodies = session.world().bodies().len();
-    session.push(Command::Fire);
-    assert!(
-        session
-            .last_error
-            .as_ref()
-            .unwrap()
-            .starts_with("replaying")
-    );
+    let e = session.push(Command::Fire).unwrap_err();
+    assert!(e.starts_with("replaying"), "{e}");
     assert_eq!(session.lanes()[0].pending(), 0);
     assert!(session.set_dt(0.02).is_err());
-    session.reset();
+    assert!(session.reset().is_err());
     assert_eq!(session.world().bodies().len(), bodies);
     let tick = session.world().tick();
     let applied = session.lanes()[0].history.commands_applied();
@@ -338,7 +354,7 @@ fn while_replaying_commands_are_refused_and_going_live_takes_over_from_that_tick
         applied,
         "the recording's later commands are not applied"
     );
-    session.push(Command::Fire);
+    session.push(Command::Fire).unwrap();
     session.frame(HZ60);
     assert_eq!(session.lanes()[0].history.commands_applied(), applied + 1);
     let verdict = session.replay_verdict().unwrap();
@@ -413,7 +429,9 @@ fn the_pre_check_warns_per_lane_and_follows_integrator_dt_and_substeps() {
     );
     assert_eq!(warnings, &expected(h, 1, Integrator::ExplicitEuler));
     // A command switches the integrator at the next tick; the warning follows it.
-    session.push(Command::SetIntegrator(Integrator::SemiImplicitEuler));
+    session
+        .push(Command::SetIntegrator(Integrator::SemiImplicitEuler))
+        .unwrap();
     session.frame(HZ60);
     assert!(session.lanes()[0].warnings.is_empty(), "w h = 1.667 < 2");
     session.set_dt(0.05).unwrap();
@@ -425,7 +443,9 @@ fn the_pre_check_warns_per_lane_and_follows_integrator_dt_and_substeps() {
         session.lanes()[0].warnings.is_empty(),
         "w h / 3 = 1.667 < 2"
     );
-    session.set_compare(vec![Integrator::ExplicitEuler, Integrator::Rk4]);
+    session
+        .set_compare(vec![Integrator::ExplicitEuler, Integrator::Rk4])
+        .unwrap();
     let lanes = session.lanes();
     assert_eq!(
         lanes[0].warnings,

@@ -28,7 +28,7 @@ fn run_recording_hashes(s: &mut Session, ticks: u64) -> Vec<Vec<u64>> {
     while s.world().tick() < ticks {
         let tick = s.world().tick();
         if tick == 7 || tick == 23 {
-            s.push(Command::Fire);
+            s.push(Command::Fire).unwrap();
         }
         s.single_step();
         s.frame(FRAME);
@@ -50,7 +50,7 @@ fn seeking_back_and_playing_forward_gives_every_lane_the_states_it_first_compute
     let mut s = session("drag", lanes);
     let hashes = run_recording_hashes(&mut s, 120);
     for tick in [0, 3, 7, 8, 16, 17, 23, 64, 99, 120, 50] {
-        s.seek(tick);
+        s.seek(tick).unwrap();
         for (h, l) in hashes.iter().zip(s.lanes()) {
             assert_eq!(l.sim.world.tick(), tick);
             assert_eq!(state_hash(&l.sim.world), h[tick as usize], "tick {tick}");
@@ -74,8 +74,8 @@ fn seeking_back_and_playing_forward_gives_every_lane_the_states_it_first_compute
 fn a_new_command_after_a_seek_back_drops_the_future_and_says_so() {
     let mut s = session("drag", Vec::new());
     run_recording_hashes(&mut s, 60);
-    s.seek(30);
-    s.push(Command::Fire);
+    s.seek(30).unwrap();
+    s.push(Command::Fire).unwrap();
     s.single_step();
     s.frame(FRAME);
     assert_eq!(s.future_dropped_at(), Some(30));
@@ -96,7 +96,7 @@ fn moving_the_timeline_ends_a_running_recording_at_its_last_tick() {
     s.recordings_dir = dir.clone();
     s.start_recording(Some(dir.join("run.vrec"))).unwrap();
     run_recording_hashes(&mut s, 40);
-    s.seek(10);
+    s.seek(10).unwrap();
     let done = s.recordings().last().expect("the recording ended");
     assert!(
         done.ended.contains("timeline moved to tick 10"),
@@ -118,7 +118,7 @@ fn playing_backwards_goes_back_at_the_time_scale_and_stops_at_the_start() {
     }
     let back = (500_000_000 / s.scene().timestep.as_nanos()) as u64;
     assert_eq!(s.world().tick(), 90 - back);
-    s.set_time_scale(10.0);
+    s.set_time_scale(10.0).unwrap();
     for _ in 0..100 {
         s.frame(FRAME);
     }
@@ -137,7 +137,7 @@ fn a_replay_seeks_in_its_recording() {
     s.start_replay(&file, None).unwrap();
     assert_eq!(s.history_range(), Some((0, 80)));
     for tick in [60, 5, 33] {
-        s.seek(tick);
+        s.seek(tick).unwrap();
         assert_eq!(s.world().tick(), tick);
         assert_eq!(
             state_hash(s.world()),

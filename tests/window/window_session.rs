@@ -58,7 +58,7 @@ fn changing_dt_restarts_at_tick_0_with_the_new_step() {
 fn commands_pushed_while_paused_wait_for_the_next_tick() {
     let mut session = seed();
     session.set_paused(true);
-    session.push(Command::Fire);
+    session.push(Command::Fire).unwrap();
     session.frame(FRAME);
     assert_eq!(session.world().bodies().len(), 1);
     assert_eq!(session.lanes()[0].pending(), 1);
@@ -72,7 +72,9 @@ fn commands_pushed_while_paused_wait_for_the_next_tick() {
 #[test]
 fn switching_the_integrator_goes_through_a_command_and_survives_a_dt_change() {
     let mut session = seed();
-    session.push(Command::SetIntegrator(Integrator::Rk4));
+    session
+        .push(Command::SetIntegrator(Integrator::Rk4))
+        .unwrap();
     session.frame(FRAME);
     session.frame(FRAME);
     assert_eq!(session.world().integrator(), Integrator::Rk4);
@@ -122,7 +124,7 @@ fn reset_after_a_divergence_is_a_reset_command_the_tick_keeps_counting_and_the_c
     let d = stiff_divergence();
     let mut session = Session::new(stiff_spring(), Path::new("stiff.ron"), Vec::new());
     session.frame(FRAME);
-    session.reset();
+    session.reset().unwrap();
     assert!(!session.is_paused(), "the pause the divergence caused ends");
     assert!(session.lanes()[0].stopped.is_none());
     session.frame(FRAME);
@@ -149,7 +151,7 @@ fn a_reset_while_the_user_pauses_waits_for_the_next_tick_without_a_new_alarm() {
     let mut session = Session::new(stiff_spring(), Path::new("stiff.ron"), Vec::new());
     session.frame(FRAME);
     session.set_paused(true);
-    session.reset();
+    session.reset().unwrap();
     session.frame(FRAME);
     assert!(session.is_paused() && !session.paused_by_alarm());
     assert!(
@@ -178,7 +180,7 @@ fn in_compare_mode_reset_after_a_divergence_restarts_every_lane_at_tick_0() {
     let ticks = FRAME.as_nanos() / stiff_spring().timestep.as_nanos();
     assert_eq!(u128::from(lanes[1].sim.world.tick()), ticks);
     assert!(session.is_paused());
-    session.reset();
+    session.reset().unwrap();
     assert!(
         session
             .lanes()

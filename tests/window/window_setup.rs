@@ -19,13 +19,14 @@ fn a_saved_setup_steps_to_the_same_hash_headless_as_the_setup_it_was_saved_from(
     let mut s = Session::new(original.clone(), &path, Vec::new());
     // The user's setup: a finer step, RK4, a new launch.
     s.set_dt(0.05).unwrap();
-    s.push(Command::SetIntegrator(Integrator::Rk4));
+    s.push(Command::SetIntegrator(Integrator::Rk4)).unwrap();
     s.push(Command::SetLaunch {
         speed: Some(25.0),
         elevation_deg: Some(60.0),
         azimuth_deg: Some(5.0),
         position: None,
-    });
+    })
+    .unwrap();
     s.single_step();
     s.frame(Duration::from_millis(10));
     let file = s.save_setup(&dir).unwrap();

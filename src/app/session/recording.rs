@@ -207,12 +207,14 @@ impl Session {
         self.recordings.last()
     }
 
-    /// Starts or stops recording (the panel's button and its key); a refusal goes to the panel.
-    pub fn toggle_recording(&mut self) {
+    /// Starts or stops recording (the panel's button and its key); returns why a recording
+    /// could not start.
+    pub fn toggle_recording(&mut self) -> Result<(), String> {
         if self.recording.is_some() {
             self.stop_recording("stopped");
-        } else if let Err(e) = self.start_recording(None) {
-            self.last_error = Some(e);
+            Ok(())
+        } else {
+            self.start_recording(None)
         }
     }
 

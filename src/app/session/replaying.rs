@@ -45,7 +45,7 @@ impl Session {
         // A replay seeks in its file (`seek`), so the lane keeps no timeline of its own.
         self.lanes = vec![Lane::new(sim, self.bounds.center(), None)];
         self.last = FrameTicks::default();
-        self.last_error = None;
+        self.replays_opened += 1;
         self.replay = Some(replay);
         self.pacing.rebase();
     }
@@ -57,7 +57,6 @@ impl Session {
             return false;
         }
         self.end_replay();
-        self.last_error = None;
         let lane = &mut self.lanes[0];
         let mut live = SimLoop::new(lane.sim.world.clone());
         live.clock = lane.sim.clock.clone();
@@ -72,6 +71,12 @@ impl Session {
         if let Some(replay) = self.replay.take() {
             self.last_replay = Some(replay.verdict(&self.lanes[0].sim.world));
         }
+    }
+
+    /// How many times this session opened a replay: started one, or opened it again at
+    /// another tick for a seek in it. The panel drops a refusal made before the last opening.
+    pub fn replays_opened(&self) -> u64 {
+        self.replays_opened
     }
 
     /// The replay being played.

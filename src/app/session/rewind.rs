@@ -52,26 +52,26 @@ impl Session {
     }
 
     /// Moves every lane to `tick` (clamped to [`Session::history_range`]); the clocks keep
-    /// their pause and time scale. Errors go to the panel.
-    pub fn seek(&mut self, tick: u64) {
+    /// their pause and time scale. In a replay the recording is opened again at `tick`
+    /// ([`Session::replays_opened`]). Returns why it could not (the last lane's reason, if
+    /// several lanes failed; the others still moved).
+    pub fn seek(&mut self, tick: u64) -> Result<(), String> {
         let Some((start, end)) = self.history_range() else {
-            self.last_error = Some(format!(
+            return Err(format!(
                 "no history to seek in: a keyframe of this world is over an eighth of the {} MiB \
                  budget (--history-budget)",
                 self.history_budget >> 20
             ));
-            return;
         };
         let tick = tick.clamp(start, end);
         if tick == self.world().tick() {
-            return;
+            return Ok(());
         }
         if let Some(replay) = &self.replay {
             let path = replay.file().to_path_buf();
-            if let Err(e) = self.start_replay(&path, Some(tick)) {
-                self.last_error = Some(format!("seek: {e}"));
-            }
-            return;
+            return self
+                .start_replay(&path, Some(tick))
+                .map_err(|e| format!("seek: {e}"));
         }
         if self.recording.is_some() {
             self.stop_recording(&format!("the timeline moved to tick {tick}"));
@@ -79,6 +79,7 @@ impl Session {
         // `tick` is the first lane's; a lane with its own dt goes to its last tick at or
         // before the same sim time.
         let h0 = self.lanes[0].sim.world.scene().timestep.as_nanos();
+        let mut refused = Ok(());
         for lane in &mut self.lanes {
             let Some(timeline) = lane.history.timeline.as_mut() else {
                 continue;
@@ -91,7 +92,7 @@ impl Session {
                 (t as u64).clamp(timeline.start(), timeline.end())
             };
             if let Err(e) = timeline.seek(&mut lane.sim.world, own) {
-                self.last_error = Some(format!("seek: {e}"));
+                refused = Err(format!("seek: {e}"));
                 continue;
             }
             lane.sim.clear_queued();
@@ -103,31 +104,36 @@ impl Session {
             lane.pushed = lane.history.commands_applied() + lane.refused;
             lane.refresh_stability();
         }
+        refused
     }
 
-    /// Pauses and goes back one tick.
-    pub fn step_back(&mut self) {
+    /// Pauses and goes back one tick, as [`Session::seek`] does.
+    pub fn step_back(&mut self) -> Result<(), String> {
         self.set_paused(true);
         self.reverse = None;
         let tick = self.world().tick();
-        self.seek(tick.saturating_sub(1));
+        self.seek(tick.saturating_sub(1))
     }
 
-    /// Pauses at the first tick held.
-    pub fn jump_to_start(&mut self) {
+    /// Pauses at the first tick held, as [`Session::seek`] does (nothing moves without a
+    /// timeline).
+    pub fn jump_to_start(&mut self) -> Result<(), String> {
         self.set_paused(true);
         self.reverse = None;
-        if let Some((start, _)) = self.history_range() {
-            self.seek(start);
+        match self.history_range() {
+            Some((start, _)) => self.seek(start),
+            None => Ok(()),
         }
     }
 
-    /// Goes to the last tick run (the end of the recorded future), paused.
-    pub fn jump_to_end(&mut self) {
+    /// Goes to the last tick run (the end of the recorded future), paused, as
+    /// [`Session::seek`] does (nothing moves without a timeline).
+    pub fn jump_to_end(&mut self) -> Result<(), String> {
         self.set_paused(true);
         self.reverse = None;
-        if let Some((_, end)) = self.history_range() {
-            self.seek(end);
+        match self.history_range() {
+            Some((_, end)) => self.seek(end),
+            None => Ok(()),
         }
     }
 
@@ -145,11 +151,11 @@ impl Session {
         self.reverse.is_some()
     }
 
-    /// A frame while playing backwards: the frame's delta, scaled, goes back in whole ticks.
-    /// Returns false (nothing done) when not playing backwards.
-    pub(super) fn reverse_frame(&mut self, delta: Duration) -> bool {
+    /// A frame while playing backwards: the frame's delta, scaled, goes back in whole ticks
+    /// (nothing when not playing backwards); returns why the seek failed, if it did.
+    pub(super) fn reverse_frame(&mut self, delta: Duration) -> Result<(), String> {
         let Some(owed) = self.reverse else {
-            return false;
+            return Ok(());
         };
         let scaled = Duration::from_secs_f64(delta.as_secs_f64() * self.clock.time_scale);
         let owed = owed + scaled;
@@ -159,11 +165,9 @@ impl Session {
         let now = self.world().tick();
         let start = self.history_range().map_or(now, |r| r.0);
         let to = now.saturating_sub(ticks).max(start);
-        if to != now {
-            self.seek(to);
-        }
+        let sought = if to != now { self.seek(to) } else { Ok(()) };
         self.reverse = (to > start).then_some(left);
-        true
+        sought
     }
 
     /// The tick from which a new command last dropped the recorded future (after a seek back),

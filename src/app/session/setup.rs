@@ -6,38 +6,37 @@ use super::Session;
 impl Session {
     /// Runs every lane `ticks` ticks ahead at once, through its observers (the timeline, the
     /// plots, the passes), without drawing: `--warm-up-ticks`, so a window opens with history.
-    /// The clocks are left as they were, at the new tick. Not while replaying.
-    pub fn run_ticks(&mut self, ticks: u64) {
-        if self.refuse_while_replaying("warming up") {
-            return;
-        }
+    /// The clocks are left as they were, at the new tick. Refused while replaying; returns the
+    /// last lane's error (a command refused as it was applied), if any.
+    pub fn run_ticks(&mut self, ticks: u64) -> Result<(), String> {
+        self.refuse_while_replaying("warming up")?;
+        let mut refused = Ok(());
         for lane in &mut self.lanes {
             let saved = lane.sim.clock.clone();
             let to = lane.sim.world.tick() + ticks;
             let mut source = lane.sim.unpaced_source(64);
             if let Err(e) = lane.sim.run_until(to, &mut source, &mut lane.history) {
-                self.last_error = Some(e.to_string());
+                refused = Err(e.to_string());
             }
             lane.stopped = lane.sim.world.divergence();
             lane.sim.clock = saved;
             lane.sim.clock.set_tick(lane.sim.world.tick());
         }
+        refused
     }
 
     /// Moves the scene's target `index` to `center` (a drag in the 3D view): the setup
     /// changes, so the scene restarts at tick 0 with it, like a dt change, keeping the
-    /// launcher and integrator as they are now. Refused while replaying.
-    pub fn move_target(&mut self, index: usize, center: glam::DVec3) {
-        if self.refuse_while_replaying("moving a target") {
-            return;
-        }
+    /// launcher and integrator as they are now. Refused while replaying, and for a target the
+    /// scene does not have.
+    pub fn move_target(&mut self, index: usize, center: glam::DVec3) -> Result<(), String> {
+        self.refuse_while_replaying("moving a target")?;
         let Some(target) = self.scene.targets.get_mut(index) else {
-            self.last_error = Some(format!("no target {index}"));
-            return;
+            return Err(format!("no target {index}"));
         };
         target.center = center;
         self.scene.launcher = *self.lanes[0].sim.world.launcher();
-        self.restart(None, &format!("target {index} moved"));
+        self.restart(None, &format!("target {index} moved"))
     }
 
     /// The setup as a scene: the scene with the first lane's launcher, integrator and force
