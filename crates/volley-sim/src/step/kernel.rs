@@ -6,6 +6,7 @@ use glam::DVec3;
 
 use crate::contact::{self, Event, Particle, StepContext};
 use crate::integrate::{BodyState, Scheme, SchemeVisitor, visit};
+#[cfg(target_arch = "x86_64")]
 use crate::simd::{SimdLevel, simd_level};
 use crate::world::World;
 
