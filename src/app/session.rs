@@ -188,9 +188,18 @@ impl Session {
     /// A session replaying the recording `path` (from the keyframe at or before `seek`, then
     /// re-simulated to `seek`), or why it cannot.
     pub fn for_replay(path: &Path, seek: Option<u64>) -> Result<Session, ReplayError> {
-        let (replay, sim) = SessionReplay::open(path, seek)?;
+        Session::for_replay_from(replaying::ReplaySource::File(path.to_path_buf()), seek)
+    }
+
+    /// [`Session::for_replay`] from any source: a file, or bytes a browser fetched.
+    pub fn for_replay_from(
+        source: replaying::ReplaySource,
+        seek: Option<u64>,
+    ) -> Result<Session, ReplayError> {
+        let path = source.name().to_path_buf();
+        let (replay, sim) = SessionReplay::open_from(source, seek)?;
         let scene = replay.verifier().scene().clone();
-        let mut session = Session::new(scene, path, Vec::new());
+        let mut session = Session::new(scene, &path, Vec::new());
         session.install_replay(replay, sim);
         Ok(session)
     }

@@ -8,8 +8,9 @@
 //! ends the replay and keeps the state, so the user can take over from any tick.
 
 use std::fs::File;
-use std::io::BufReader;
+use std::io::{BufReader, Cursor, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Duration;
 
 use super::{Lane, Session};
@@ -25,7 +26,16 @@ impl Session {
     /// then re-simulated to `seek`): one lane, the recording's scene, step and integrator. A
     /// recording in progress ends first; compare mode ends. On an error nothing changes.
     pub fn start_replay(&mut self, path: &Path, seek: Option<u64>) -> Result<(), ReplayError> {
-        let (replay, sim) = SessionReplay::open(path, seek)?;
+        self.start_replay_from(ReplaySource::File(path.to_path_buf()), seek)
+    }
+
+    /// [`Session::start_replay`] from any source: a file, or bytes a browser fetched.
+    pub fn start_replay_from(
+        &mut self,
+        source: ReplaySource,
+        seek: Option<u64>,
+    ) -> Result<(), ReplayError> {
+        let (replay, sim) = SessionReplay::open_from(source, seek)?;
         self.stop_recording("a replay started");
         self.end_replay();
         self.compare.clear();
@@ -115,10 +125,76 @@ pub(super) fn frame(
     }
 }
 
+/// Where a replayed recording comes from: its file, or its bytes (a browser's page fetches a
+/// recording from a URL or reads the one picked in a file input: it has no files to open).
+#[derive(Clone, Debug)]
+pub enum ReplaySource {
+    /// A recording file.
+    File(PathBuf),
+    /// A recording's bytes, with the name errors and the panel give it.
+    Bytes {
+        /// The name (the URL or the picked file's name).
+        name: PathBuf,
+        /// The file's bytes.
+        bytes: Arc<[u8]>,
+    },
+}
+
+impl ReplaySource {
+    /// The name the panel and errors give it.
+    pub fn name(&self) -> &Path {
+        match self {
+            ReplaySource::File(path) => path,
+            ReplaySource::Bytes { name, .. } => name,
+        }
+    }
+
+    fn open(&self) -> Result<Recording<ReplayReader>, ReplayError> {
+        match self {
+            ReplaySource::File(path) => {
+                let label = path.display().to_string();
+                let file = File::open(path).map_err(|e| ReplayError::input(&label, None, e))?;
+                Recording::from_reader(ReplayReader::File(BufReader::new(file)), &label)
+            }
+            ReplaySource::Bytes { name, bytes } => Recording::from_reader(
+                ReplayReader::Bytes(Cursor::new(bytes.clone())),
+                &name.display().to_string(),
+            ),
+        }
+    }
+}
+
+/// A replay's reader: the file's, or a cursor over the bytes.
+#[derive(Debug)]
+pub enum ReplayReader {
+    /// A recording file.
+    File(BufReader<File>),
+    /// A recording's bytes.
+    Bytes(Cursor<Arc<[u8]>>),
+}
+
+impl Read for ReplayReader {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        match self {
+            ReplayReader::File(r) => r.read(buf),
+            ReplayReader::Bytes(r) => r.read(buf),
+        }
+    }
+}
+
+impl Seek for ReplayReader {
+    fn seek(&mut self, pos: SeekFrom) -> std::io::Result<u64> {
+        match self {
+            ReplayReader::File(r) => r.seek(pos),
+            ReplayReader::Bytes(r) => r.seek(pos),
+        }
+    }
+}
+
 /// The replay a session is playing.
 pub struct SessionReplay {
-    verifier: Verifier<BufReader<File>>,
-    file: PathBuf,
+    verifier: Verifier<ReplayReader>,
+    source: ReplaySource,
     warnings: Vec<String>,
     error: Option<String>,
     /// Whether the session has already paused for this replay's mismatch.
@@ -128,7 +204,7 @@ pub struct SessionReplay {
 impl std::fmt::Debug for SessionReplay {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("SessionReplay")
-            .field("file", &self.file)
+            .field("file", &self.source.name())
             .field("hashes_checked", &self.verifier.hashes_checked())
             .field("error", &self.error)
             .finish()
@@ -140,7 +216,15 @@ impl SessionReplay {
     /// re-simulated to `seek` itself (checked as it goes). Warnings (another Volley version or
     /// target, a truncated file) are kept for the panel.
     pub fn open(path: &Path, seek: Option<u64>) -> Result<(SessionReplay, SimLoop), ReplayError> {
-        let recording = Recording::open(path)?;
+        SessionReplay::open_from(ReplaySource::File(path.to_path_buf()), seek)
+    }
+
+    /// [`SessionReplay::open`] from any source.
+    pub fn open_from(
+        source: ReplaySource,
+        seek: Option<u64>,
+    ) -> Result<(SessionReplay, SimLoop), ReplayError> {
+        let recording = source.open()?;
         let mut warnings: Vec<String> = recording
             .build_warnings()
             .into_iter()
@@ -154,7 +238,7 @@ impl SessionReplay {
         }
         let end = recording.end_tick();
         if let Some(s) = seek.filter(|&s| s > end) {
-            let file = path.display().to_string();
+            let file = source.name().display().to_string();
             return Err(ReplayError::input(
                 &file,
                 None,
@@ -168,7 +252,7 @@ impl SessionReplay {
         }
         let replay = SessionReplay {
             verifier,
-            file: path.to_path_buf(),
+            source,
             warnings,
             error: None,
             alarmed: false,
@@ -177,13 +261,18 @@ impl SessionReplay {
     }
 
     /// The verifier (what was compared, what differed).
-    pub fn verifier(&self) -> &Verifier<BufReader<File>> {
+    pub fn verifier(&self) -> &Verifier<ReplayReader> {
         &self.verifier
     }
 
-    /// The recording file.
+    /// The recording file (or, for bytes, their name).
     pub fn file(&self) -> &Path {
-        &self.file
+        self.source.name()
+    }
+
+    /// Where the recording came from (a seek opens it again from there).
+    pub fn source(&self) -> &ReplaySource {
+        &self.source
     }
 
     /// The recording's last tick.
@@ -210,7 +299,7 @@ impl SessionReplay {
     pub fn verdict(&self, world: &World) -> ReplayVerdict {
         let v = &self.verifier;
         ReplayVerdict {
-            file: self.file.display().to_string(),
+            file: self.file().display().to_string(),
             from: v.started_at(),
             at: world.tick(),
             end: self.end_tick(),

@@ -68,9 +68,9 @@ impl Session {
             return Ok(());
         }
         if let Some(replay) = &self.replay {
-            let path = replay.file().to_path_buf();
+            let source = replay.source().clone();
             return self
-                .start_replay(&path, Some(tick))
+                .start_replay_from(source, Some(tick))
                 .map_err(|e| format!("seek: {e}"));
         }
         if self.recording.is_some() {
