@@ -29,10 +29,14 @@ mod timing;
 mod ui;
 mod view;
 pub mod watch;
+#[cfg(target_arch = "wasm32")]
+pub mod web;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use web_time::Instant;
 
 use winit::application::ApplicationHandler;
 use winit::event::WindowEvent;
@@ -52,6 +56,7 @@ use host::Host;
 pub use input::Action;
 use panel::PanelState;
 pub use session::Session;
+#[cfg(not(target_arch = "wasm32"))]
 use surface::WindowGpu;
 use timing::FrameTiming;
 use ui::UiState;
@@ -437,7 +442,11 @@ impl App {
 
     /// Loads `path` and restarts on it; a bad file leaves the running scene and shows why.
     fn load_scene(&mut self, path: &Path, reload: bool) {
-        match crate::scene::load(path) {
+        #[cfg(not(target_arch = "wasm32"))]
+        let loaded = crate::scene::load(path);
+        #[cfg(target_arch = "wasm32")]
+        let loaded = web::load(path);
+        match loaded {
             Ok(scene) => {
                 let why = if reload {
                     "the scene file was saved"
@@ -486,6 +495,12 @@ impl App {
                 let attributes = Window::default_attributes()
                     .with_title(self.title())
                     .with_inner_size(winit::dpi::LogicalSize::new(w, h));
+                // In a browser the window is a canvas, added to the page's body.
+                #[cfg(target_arch = "wasm32")]
+                let attributes = {
+                    use winit::platform::web::WindowAttributesExtWebSys;
+                    attributes.with_append(true)
+                };
                 let window = event_loop
                     .create_window(attributes)
                     .map_err(|e| AppError::NoDisplay(e.to_string()))?;
@@ -502,10 +517,43 @@ impl App {
         {
             self.session.set_refresh(display::believed_refresh(hz));
         }
-        let gfx = WindowGpu::new(event_loop, window.clone()).map_err(AppError::Gpu)?;
-        self.timing.stats.adapter = gfx.gpu.describe();
-        self.host.attach(window, gfx);
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let gfx = WindowGpu::new(event_loop, window.clone()).map_err(AppError::Gpu)?;
+            self.timing.stats.adapter = gfx.gpu.describe();
+            self.host.attach(window, gfx);
+        }
+        #[cfg(target_arch = "wasm32")]
+        self.host.open_in_browser(event_loop, window);
         Ok(())
+    }
+
+    /// In a browser: takes the device once the browser has opened it, or ends on why it
+    /// could not.
+    #[cfg(target_arch = "wasm32")]
+    fn adopt_browser_gpu(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(opened) = self.host.take_opened() else {
+            return;
+        };
+        match (opened, self.host.window.clone()) {
+            (Ok(gfx), Some(window)) => {
+                // A GPU error the page did not expect is shown in it, not a silent stop.
+                gfx.gpu
+                    .device
+                    .on_uncaptured_error(std::sync::Arc::new(|e: wgpu::Error| {
+                        web::show_error(&format!("GPU error: {e}"));
+                    }));
+                self.timing.stats.adapter = gfx.gpu.describe();
+                self.host.attach(window, gfx);
+                web::show_adapter(&self.timing.stats.adapter);
+            }
+            (Err(e), _) => {
+                web::show_error(&AppError::Gpu(e).to_string());
+                self.ending = Some(Err(AppError::Gpu(GpuError::Surface("see the page".into()))));
+                event_loop.exit();
+            }
+            (Ok(_), None) => {}
+        }
     }
 
     /// Reloads the scene if its file was saved and has settled.
@@ -722,6 +770,8 @@ impl ApplicationHandler for App {
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        #[cfg(target_arch = "wasm32")]
+        self.adopt_browser_gpu(event_loop);
         let (Some(window), Some(egui_state)) =
             (self.host.window.clone(), self.host.egui_state.as_mut())
         else {
@@ -753,6 +803,8 @@ impl ApplicationHandler for App {
     }
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        #[cfg(target_arch = "wasm32")]
+        self.adopt_browser_gpu(event_loop);
         if self.ending.is_some() {
             event_loop.exit();
             return;

@@ -23,6 +23,12 @@ pub use volley_sim::{
     parse_scene, parse_script, solve_aim, state_hash,
 };
 
+/// The one line for a scene argument that names neither a file nor a bundled scene: the
+/// command line's, and the browser page's for `?scene=`.
+pub fn no_such_scene(arg: &str) -> String {
+    format!("no scene file `{arg}` and no bundled scene of that name (see `volley scenes`)")
+}
+
 pub mod app;
 pub mod palette;
 pub mod plot;

@@ -4,7 +4,9 @@
 use std::path::Path;
 
 use super::{App, AppError};
-use crate::render::{DrawOptions, Image, OffscreenTarget, View};
+use crate::render::{DrawOptions, View};
+#[cfg(not(target_arch = "wasm32"))]
+use crate::render::{Image, OffscreenTarget};
 
 impl App {
     /// Draws the frame into the next surface texture and presents it, returning the screen it
@@ -38,6 +40,8 @@ impl App {
             gfx.refresh();
         }
         self.timing.stats.frames += 1;
+        #[cfg(target_arch = "wasm32")]
+        super::web::after_frame(&self.session, self.timing.stats.frames);
         Some(screen)
     }
 
@@ -136,6 +140,7 @@ impl App {
 
     /// Draws the frame again into an offscreen texture of the surface's size and format, through
     /// the same [`App::draw`], and writes it as a PNG.
+    #[cfg(not(target_arch = "wasm32"))]
     fn capture(&mut self, path: &Path, ui: &FrameUi<'_>) -> Result<(), String> {
         let Some(gfx) = self.host.gfx.as_ref() else {
             return Ok(());
@@ -152,6 +157,20 @@ impl App {
         };
         let image: Image = target.read(&gfx.gpu).map_err(|e| e.to_string())?;
         image.save_png(path).map_err(|e| e.to_string())
+    }
+
+    /// A page writes no files: the PNG is offered as a download, named as the desktop's file.
+    /// It is the canvas's own image, taken in the task that drew the frame (a browser keeps a
+    /// WebGPU canvas's image only until then). Reading the frame back through a mapped buffer,
+    /// as the desktop does, was refused by Chromium on SwiftShader here (the map's promise
+    /// rejected, with no GPU error).
+    #[cfg(target_arch = "wasm32")]
+    fn capture(&mut self, path: &Path, _ui: &FrameUi<'_>) -> Result<(), String> {
+        let name = path
+            .file_name()
+            .map_or("volley.png".into(), |n| n.to_string_lossy().into_owned());
+        super::web::download_canvas(&name);
+        Ok(())
     }
 }
 

@@ -15,6 +15,7 @@
 
 use std::sync::Arc;
 
+#[cfg(not(target_arch = "wasm32"))]
 use winit::event_loop::ActiveEventLoop;
 use winit::window::Window;
 
@@ -38,6 +39,7 @@ pub struct WindowGpu {
 
 impl WindowGpu {
     /// Opens a device that can present to `window` and configures its surface.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn new(event_loop: &ActiveEventLoop, window: Arc<Window>) -> Result<WindowGpu, GpuError> {
         let display = Box::new(event_loop.owned_display_handle());
         let descriptor = wgpu::InstanceDescriptor::new_with_display_handle_from_env(display);
@@ -46,6 +48,33 @@ impl WindowGpu {
             .create_surface(window.clone())
             .map_err(|e| GpuError::Surface(e.to_string()))?;
         let gpu = Gpu::open(instance, Some(&surface))?;
+        WindowGpu::on(gpu, surface, window)
+    }
+
+    /// [`WindowGpu::new`] in a browser, where the GPU's answers are futures: WebGPU where the
+    /// browser has it, WebGL2 otherwise.
+    #[cfg(target_arch = "wasm32")]
+    pub async fn new_in_browser(
+        display: winit::event_loop::OwnedDisplayHandle,
+        window: Arc<Window>,
+    ) -> Result<WindowGpu, GpuError> {
+        let mut descriptor =
+            wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(display));
+        descriptor.backends = super::web::backends();
+        let instance = wgpu::util::new_instance_with_webgpu_detection(descriptor).await;
+        let surface = instance
+            .create_surface(window.clone())
+            .map_err(|e| GpuError::Surface(e.to_string()))?;
+        let gpu = Gpu::open_async(instance, Some(&surface)).await?;
+        WindowGpu::on(gpu, surface, window)
+    }
+
+    /// The surface configured and the renderers made, on an open device.
+    fn on(
+        gpu: Gpu,
+        surface: wgpu::Surface<'static>,
+        window: Arc<Window>,
+    ) -> Result<WindowGpu, GpuError> {
         let caps = surface.get_capabilities(&gpu.adapter);
         let (format, scene_format) = pick_formats(&caps.formats, gpu.surface_view_formats())
             .ok_or_else(|| GpuError::Surface("the surface supports no format".into()))?;
@@ -57,11 +86,16 @@ impl WindowGpu {
             height: size.height.max(1),
             present_mode: wgpu::PresentMode::AutoVsync,
             desired_maximum_frame_latency: 2,
-            alpha_mode: caps
-                .alpha_modes
-                .first()
-                .copied()
-                .unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            // Opaque where offered: the frame's alpha is not coverage (a browser composites a
+            // premultiplied canvas over the page, and its colours with alpha 0 add up to white).
+            alpha_mode: if caps.alpha_modes.contains(&wgpu::CompositeAlphaMode::Opaque) {
+                wgpu::CompositeAlphaMode::Opaque
+            } else {
+                caps.alpha_modes
+                    .first()
+                    .copied()
+                    .unwrap_or(wgpu::CompositeAlphaMode::Auto)
+            },
             view_formats: crate::render::capture::view_formats(format, scene_format),
             color_space: wgpu::SurfaceColorSpace::Auto,
         };

@@ -94,10 +94,7 @@ pub fn resolve_scene(arg: &str) -> Result<PathBuf, Failure> {
             return Ok(candidate);
         }
     }
-    Err(fail(
-        EXIT_INPUT,
-        format!("no scene file `{arg}` and no bundled scene of that name (see `volley scenes`)"),
-    ))
+    Err(fail(EXIT_INPUT, volley::no_such_scene(arg)))
 }
 
 /// Every `.ron` file under `dir`, recursively, into `out`.

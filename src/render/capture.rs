@@ -1,16 +1,8 @@
-//! Offscreen capture: a texture to draw into, its pixels read back, PNG files in and out, and
-//! the [`FrameWriter`] that `volley headless --frames` runs as a tick observer.
+//! Offscreen capture: a texture to draw into, its pixels read back, PNG files in and out.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use crate::render::bounds::SceneBounds;
-use crate::render::camera::{OrbitCamera, Viewport};
-use crate::render::draw::{DrawOptions, Lane, integrator_colour};
 use crate::render::gpu::Gpu;
-use crate::render::history::TickHistory;
-use crate::render::renderer::{Renderer, View};
-use crate::sim_loop::{ObserverError, TickObserver};
-use crate::world::World;
 
 /// Colour format of offscreen targets: sRGB, so the bytes read back are what a PNG stores.
 pub const OFFSCREEN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -54,13 +46,26 @@ impl Image {
     pub fn save_png(&self, path: &Path) -> Result<(), CaptureError> {
         let fail = |e: &dyn std::fmt::Display| CaptureError(format!("{}: {e}", path.display()));
         let file = std::fs::File::create(path).map_err(|e| fail(&e))?;
-        let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
+        self.encode_png(std::io::BufWriter::new(file))
+            .map_err(|e| fail(&e))
+    }
+
+    /// The image as an RGBA PNG file's bytes (the browser build offers them as a download).
+    pub fn png_bytes(&self) -> Result<Vec<u8>, CaptureError> {
+        let mut bytes = Vec::new();
+        self.encode_png(&mut bytes)
+            .map_err(|e| CaptureError(format!("encoding the PNG: {e}")))?;
+        Ok(bytes)
+    }
+
+    fn encode_png(&self, out: impl std::io::Write) -> Result<(), png::EncodingError> {
+        let mut encoder = png::Encoder::new(out, self.width, self.height);
         encoder.set_color(png::ColorType::Rgba);
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        let mut writer = encoder.write_header().map_err(|e| fail(&e))?;
-        writer.write_image_data(&self.rgba).map_err(|e| fail(&e))?;
-        writer.finish().map_err(|e| fail(&e))
+        let mut writer = encoder.write_header()?;
+        writer.write_image_data(&self.rgba)?;
+        writer.finish()
     }
 
     /// Reads an 8-bit RGBA or RGB PNG.
@@ -119,6 +124,8 @@ pub fn view_in(texture: &wgpu::Texture, format: wgpu::TextureFormat) -> Option<w
 /// A texture to render into and read back.
 #[derive(Debug)]
 pub struct OffscreenTarget {
+    // Read back only on the desktop (a page cannot block on the GPU).
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     texture: wgpu::Texture,
     view: wgpu::TextureView,
     /// A view in the scene's format when it differs from the texture's (see [`Self::with_views`]).
@@ -182,7 +189,23 @@ impl OffscreenTarget {
     }
 
     /// Copies the pixels back to the CPU (blocking until the GPU is done), as RGBA.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn read(&self, gpu: &Gpu) -> Result<Image, CaptureError> {
+        let (buffer, row) = self.copy_back(gpu);
+        let (tx, rx) = std::sync::mpsc::channel();
+        buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        gpu.wait();
+        rx.recv()
+            .map_err(|e| CaptureError(format!("reading the frame back: {e}")))?
+            .map_err(|e| CaptureError(format!("reading the frame back: {e}")))?;
+        self.image_from(&buffer, row)
+    }
+
+    /// Copies the texture into a mappable buffer; its rows are `row` bytes apart.
+    #[cfg(not(target_arch = "wasm32"))]
+    fn copy_back(&self, gpu: &Gpu) -> (wgpu::Buffer, u32) {
         let (w, h) = self.size;
         let row = (w * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
         let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -205,130 +228,44 @@ impl OffscreenTarget {
             self.texture.size(),
         );
         gpu.queue.submit([encoder.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
-        buffer.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = tx.send(r);
-        });
-        gpu.wait();
-        rx.recv()
-            .map_err(|e| CaptureError(format!("reading the frame back: {e}")))?
-            .map_err(|e| CaptureError(format!("reading the frame back: {e}")))?;
-        let mapped = buffer
-            .get_mapped_range(..)
-            .map_err(|e| CaptureError(format!("reading the frame back: {e}")))?;
-        let bgra = matches!(
-            self.texture.format(),
-            wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
-        );
-        let mut rgba = Vec::with_capacity((w * h * 4) as usize);
-        for y in 0..h as usize {
-            let line = &mapped[y * row as usize..y * row as usize + (w * 4) as usize];
-            for px in line.chunks_exact(4) {
-                if bgra {
-                    rgba.extend_from_slice(&[px[2], px[1], px[0], px[3]]);
-                } else {
-                    rgba.extend_from_slice(px);
-                }
+        (buffer, row)
+    }
+
+    #[cfg(not(target_arch = "wasm32"))]
+    fn image_from(&self, buffer: &wgpu::Buffer, row: u32) -> Result<Image, CaptureError> {
+        image_of(buffer, row, self.size, self.texture.format())
+    }
+}
+
+/// The RGBA image in a mapped readback `buffer` of a texture of `size` and `format`.
+#[cfg(not(target_arch = "wasm32"))]
+fn image_of(
+    buffer: &wgpu::Buffer,
+    row: u32,
+    (w, h): (u32, u32),
+    format: wgpu::TextureFormat,
+) -> Result<Image, CaptureError> {
+    let mapped = buffer
+        .get_mapped_range(..)
+        .map_err(|e| CaptureError(format!("reading the frame back: {e}")))?;
+    let bgra = matches!(
+        format,
+        wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+    );
+    let mut rgba = Vec::with_capacity((w * h * 4) as usize);
+    for y in 0..h as usize {
+        let line = &mapped[y * row as usize..y * row as usize + (w * 4) as usize];
+        for px in line.chunks_exact(4) {
+            if bgra {
+                rgba.extend_from_slice(&[px[2], px[1], px[0], px[3]]);
+            } else {
+                rgba.extend_from_slice(px);
             }
         }
-        Ok(Image {
-            width: w,
-            height: h,
-            rgba,
-        })
     }
-}
-
-/// Writes a PNG of the world every `every` ticks while a headless run steps it: a tick
-/// observer around the same renderer the window uses, at alpha 1 (each file shows its tick).
-pub struct FrameWriter {
-    gpu: Gpu,
-    renderer: Renderer,
-    target: OffscreenTarget,
-    history: TickHistory,
-    camera: OrbitCamera,
-    options: DrawOptions,
-    dir: PathBuf,
-    every: u64,
-    written: u64,
-}
-
-impl FrameWriter {
-    /// A writer for `world` (at its current tick) into folder `dir` (created if missing), with
-    /// frames of `size` pixels every `every` ticks (at least 1).
-    pub fn new(
-        gpu: Gpu,
-        world: &World,
-        dir: &Path,
-        size: (u32, u32),
-        every: u64,
-    ) -> Result<FrameWriter, CaptureError> {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| CaptureError(format!("{}: cannot create: {e}", dir.display())))?;
-        let bounds = SceneBounds::of_scene(world.scene());
-        let renderer = Renderer::new(&gpu, OFFSCREEN_FORMAT);
-        let target = OffscreenTarget::new(&gpu, size, OFFSCREEN_FORMAT);
-        Ok(FrameWriter {
-            history: TickHistory::new(world, bounds.center()),
-            camera: OrbitCamera::framing(&bounds, f64::from(size.0) / f64::from(size.1.max(1))),
-            options: DrawOptions::picture(bounds.center(), bounds.radius()),
-            renderer,
-            target,
-            gpu,
-            dir: dir.to_path_buf(),
-            every: every.max(1),
-            written: 0,
-        })
-    }
-
-    /// PNG files written so far.
-    pub fn written(&self) -> u64 {
-        self.written
-    }
-
-    /// Renders the world as it is now and writes `tick_NNNNNN.png`.
-    pub fn write(&mut self, world: &World) -> Result<(), CaptureError> {
-        let size = self.target.size();
-        let view = View {
-            camera: self.camera,
-            viewport: Viewport::full(size.0, size.1),
-            target_size: size,
-        };
-        let lane = Lane {
-            world,
-            history: &self.history,
-            at: crate::render::history::DrawAt::interpolated(1.0),
-            colour: integrator_colour(world.integrator()),
-            judder: &[],
-        };
-        self.renderer
-            .render(&self.gpu, self.target.view(), &[lane], &view, &self.options);
-        let image = self.target.read(&self.gpu)?;
-        image.save_png(&self.dir.join(format!("tick_{:06}.png", world.tick())))?;
-        self.written += 1;
-        Ok(())
-    }
-}
-
-impl TickObserver for FrameWriter {
-    fn on_command(
-        &mut self,
-        world: &World,
-        stamped: &crate::command::Stamped,
-    ) -> Result<(), ObserverError> {
-        self.history.on_command(world, stamped)
-    }
-
-    fn before_last_tick(&mut self, world: &World) {
-        self.history.before_last_tick(world);
-    }
-
-    fn after_tick(&mut self, world: &World) -> Result<(), ObserverError> {
-        self.history.after_tick(world)?;
-        if world.tick().is_multiple_of(self.every) {
-            self.write(world)
-                .map_err(|e| ObserverError(e.to_string()))?;
-        }
-        Ok(())
-    }
+    Ok(Image {
+        width: w,
+        height: h,
+        rgba,
+    })
 }

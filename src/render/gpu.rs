@@ -44,6 +44,7 @@ impl std::error::Error for GpuError {}
 
 impl Gpu {
     /// A device with no window, for offscreen frames and tests.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn headless() -> Result<Gpu, GpuError> {
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
@@ -51,7 +52,17 @@ impl Gpu {
     }
 
     /// A device on `instance` that can present to `surface` (if given).
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn open(
+        instance: wgpu::Instance,
+        surface: Option<&wgpu::Surface<'_>>,
+    ) -> Result<Gpu, GpuError> {
+        pollster::block_on(Gpu::open_async(instance, surface))
+    }
+
+    /// [`Gpu::open`] as a future: the browser build awaits it (a page cannot block on the GPU),
+    /// the desktop one blocks on it.
+    pub async fn open_async(
         instance: wgpu::Instance,
         surface: Option<&wgpu::Surface<'_>>,
     ) -> Result<Gpu, GpuError> {
@@ -60,14 +71,25 @@ impl Gpu {
             compatible_surface: surface,
             ..Default::default()
         };
-        let adapter = pollster::block_on(instance.request_adapter(&options))
+        let adapter = instance
+            .request_adapter(&options)
+            .await
             .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        // WebGL2 has fewer of everything than the downlevel defaults ask for.
+        let base =
+            if adapter.get_info().backend == wgpu::Backend::Gl && cfg!(target_arch = "wasm32") {
+                wgpu::Limits::downlevel_webgl2_defaults()
+            } else {
+                wgpu::Limits::downlevel_defaults()
+            };
         let descriptor = wgpu::DeviceDescriptor {
             label: Some("volley"),
-            required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+            required_limits: base.using_resolution(adapter.limits()),
             ..Default::default()
         };
-        let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
+        let (device, queue) = adapter
+            .request_device(&descriptor)
+            .await
             .map_err(|e| GpuError::Device(e.to_string()))?;
         Ok(Gpu {
             instance,

@@ -14,6 +14,8 @@ pub mod bounds;
 pub mod camera;
 pub mod capture;
 pub mod draw;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod frame_writer;
 pub mod gpu;
 pub mod history;
 pub mod pipelines;
@@ -25,8 +27,10 @@ pub mod trails;
 
 pub use bounds::SceneBounds;
 pub use camera::{OrbitCamera, Viewport};
-pub use capture::{CaptureError, FrameWriter, Image, OFFSCREEN_FORMAT, OffscreenTarget};
+pub use capture::{CaptureError, Image, OFFSCREEN_FORMAT, OffscreenTarget};
 pub use draw::{DrawList, DrawOptions, JudderMark, Lane, integrator_colour};
+#[cfg(not(target_arch = "wasm32"))]
+pub use frame_writer::FrameWriter;
 pub use gpu::{Gpu, GpuError};
 pub use history::{DrawAt, TickHistory};
 pub use reference::{BodyError, Reference, References};

@@ -19,7 +19,10 @@
 //! clocks (steady, seeded jitter, a hitch, a script) in headless runs and tests, which drive
 //! this very clock.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+// std's on native; the browser's clock on wasm32, where std's panics.
+use web_time::Instant;
 
 use crate::rng::SplitMix64;
 

@@ -57,7 +57,10 @@ pub mod reference;
 pub mod shard;
 
 use std::sync::Mutex;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+// std's on native; the browser's clock on wasm32, where std's panics.
+use web_time::Instant;
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

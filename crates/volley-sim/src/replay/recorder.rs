@@ -21,7 +21,10 @@
 //! may start at any tick: its first keyframe is the state it starts from.
 
 use std::io::{self, BufWriter, Write};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+// std's on native; the browser's clock on wasm32, where std's panics.
+use web_time::Instant;
 
 use crate::command::Stamped;
 use crate::hash::state_hash;
