@@ -543,7 +543,10 @@ impl App {
                     .on_uncaptured_error(std::sync::Arc::new(|e: wgpu::Error| {
                         web::show_error(&format!("GPU error: {e}"));
                     }));
-                self.timing.stats.adapter = gfx.gpu.describe();
+                self.timing.stats.adapter = match gfx.renderer.trails_missing() {
+                    Some(why) => format!("{}; {why}", gfx.gpu.describe()),
+                    None => gfx.gpu.describe(),
+                };
                 self.host.attach(window, gfx);
                 web::show_adapter(&self.timing.stats.adapter);
             }

@@ -17,8 +17,10 @@ const GLOBALS: &str = include_str!("../../shaders/globals.wgsl");
 pub struct Pipelines {
     /// Group 0 of every pipeline: the globals uniform.
     pub globals_layout: wgpu::BindGroupLayout,
-    /// Group 1 of the trail pipeline: its uniform, samples and counts.
-    pub trail_layout: wgpu::BindGroupLayout,
+    /// The trails' pipeline and the layout of its group 1 (uniform, samples, counts), where
+    /// the device can read storage buffers in a vertex shader; WebGL2 cannot, and draws no
+    /// trails ([`Pipelines::trails_missing`] says why).
+    pub trails: Option<TrailPipeline>,
     /// Lit spheres.
     pub solid_spheres: wgpu::RenderPipeline,
     /// Translucent spheres (ghosts, targets).
@@ -27,10 +29,27 @@ pub struct Pipelines {
     pub lines: wgpu::RenderPipeline,
     /// Translucent triangles.
     pub surfaces: wgpu::RenderPipeline,
-    /// Trails.
-    pub trails: wgpu::RenderPipeline,
     /// The ground grid.
     pub grid: wgpu::RenderPipeline,
+}
+
+/// The trails' pipeline and its group 1 layout.
+#[derive(Debug)]
+pub struct TrailPipeline {
+    /// Group 1: the trail's uniform, samples and counts.
+    pub layout: wgpu::BindGroupLayout,
+    /// The pipeline.
+    pub pipeline: wgpu::RenderPipeline,
+}
+
+impl Pipelines {
+    /// Why trails are not drawn on this device, if they are not.
+    pub fn trails_missing(&self) -> Option<&'static str> {
+        self.trails.is_none().then_some(
+            "no trails on this adapter: they are read from storage buffers in a vertex shader, \
+             which it cannot do (WebGL2)",
+        )
+    }
 }
 
 fn shader(device: &wgpu::Device, label: &str, body: &str) -> wgpu::ShaderModule {
@@ -91,22 +110,25 @@ impl Pipelines {
             label: Some("globals"),
             entries: &[uniform_entry(0)],
         });
-        let trail_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("trail"),
-            entries: &[uniform_entry(0), storage_entry(1), storage_entry(2)],
+        let trail_layout = (device.limits().max_storage_buffers_per_shader_stage >= 2).then(|| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("trail"),
+                entries: &[uniform_entry(0), storage_entry(1), storage_entry(2)],
+            })
         });
-        let layout = |label: &str, groups: &[Option<&wgpu::BindGroupLayout>]| {
+        let layout_of = |label: &str, groups: &[Option<&wgpu::BindGroupLayout>]| {
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some(label),
                 bind_group_layouts: groups,
                 immediate_size: 0,
             })
         };
-        let common = layout("common", &[Some(&globals_layout)]);
-        let trail = layout("trail", &[Some(&globals_layout), Some(&trail_layout)]);
+        let common = layout_of("common", &[Some(&globals_layout)]);
+        let trail = trail_layout
+            .as_ref()
+            .map(|l| layout_of("trail", &[Some(&globals_layout), Some(l)]));
         let sphere = shader(device, "sphere", include_str!("../../shaders/sphere.wgsl"));
         let line = shader(device, "line", include_str!("../../shaders/line.wgsl"));
-        let trail_shader = shader(device, "trail", include_str!("../../shaders/trail.wgsl"));
         let grid_shader = shader(device, "grid", include_str!("../../shaders/grid.wgsl"));
         let spheres = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<SphereInstance>() as u64,
@@ -159,17 +181,6 @@ impl Pipelines {
             ),
             lines: build("lines", &common, line_stage(), T::LineList, true),
             surfaces: build("surfaces", &common, line_stage(), T::TriangleList, true),
-            trails: build(
-                "trails",
-                &trail,
-                Stage {
-                    module: &trail_shader,
-                    fragment: "fs_main",
-                    buffers: &[],
-                },
-                T::LineList,
-                true,
-            ),
             grid: build(
                 "grid",
                 &common,
@@ -181,8 +192,17 @@ impl Pipelines {
                 T::TriangleStrip,
                 true,
             ),
+            trails: trail_layout.zip(trail.as_ref()).map(|(layout, trail)| {
+                let shader = shader(device, "trail", include_str!("../../shaders/trail.wgsl"));
+                let stage = Stage {
+                    module: &shader,
+                    fragment: "fs_main",
+                    buffers: &[],
+                };
+                let pipeline = build("trails", trail, stage, T::LineList, true);
+                TrailPipeline { layout, pipeline }
+            }),
             globals_layout,
-            trail_layout,
         }
     }
 }

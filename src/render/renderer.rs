@@ -193,6 +193,11 @@ impl Renderer {
         &self.list
     }
 
+    /// Why this device draws no trails, if it does not (WebGL2).
+    pub fn trails_missing(&self) -> Option<&'static str> {
+        self.pipelines.trails_missing()
+    }
+
     /// How many times a frame needed a bigger GPU buffer (instances, lines, trails) since the
     /// renderer was made: buffers are kept between frames and only grow, so this stops
     /// changing once the scene stops growing.
@@ -225,6 +230,12 @@ impl Renderer {
             }
         };
         let total: u32 = lanes.iter().map(slots).sum();
+        if self.pipelines.trails.is_none() {
+            self.trails.clear();
+            self.viewport = view.viewport;
+            self.ensure_depth(gpu, view.target_size);
+            return;
+        }
         self.segments = segments_per_trail(total as usize);
         for (k, lane) in lanes.iter().enumerate() {
             if k == self.trails.len() {
@@ -272,7 +283,12 @@ impl Renderer {
     ) -> wgpu::BindGroup {
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("trail"),
-            layout: &self.pipelines.trail_layout,
+            layout: &self
+                .pipelines
+                .trails
+                .as_ref()
+                .expect("trail buffers are made only with a trail pipeline")
+                .layout,
             entries: &[
                 entry(0, uniform),
                 entry(1, &samples.buffer),
@@ -392,10 +408,12 @@ impl Renderer {
         pass.set_pipeline(&p.grid);
         pass.draw(0..4, 0..1);
         draw_vertices(&mut pass, &p.surfaces, &self.surfaces);
-        pass.set_pipeline(&p.trails);
-        for t in self.trails.iter().filter(|t| t.slots > 0) {
-            pass.set_bind_group(1, &t.group, &[]);
-            pass.draw(0..2 * self.segments, 0..t.slots);
+        if let Some(trails) = &p.trails {
+            pass.set_pipeline(&trails.pipeline);
+            for t in self.trails.iter().filter(|t| t.slots > 0) {
+                pass.set_bind_group(1, &t.group, &[]);
+                pass.draw(0..2 * self.segments, 0..t.slots);
+            }
         }
         draw_vertices(&mut pass, &p.lines, &self.lines);
         draw_instanced(&mut pass, &p.translucent_spheres, &self.translucent);

@@ -272,3 +272,23 @@ fn a_broken_recording_shows_the_command_lines_error_in_the_page() {
         "{report}"
     );
 }
+
+#[test]
+fn webgl2_runs_the_seed_without_trails_and_says_so() {
+    let Some((report, shot)) = open("browser_webgl2", "scene=seed&backend=webgl", 30) else {
+        return;
+    };
+    let adapter = report["adapter"].as_str().unwrap_or_default();
+    assert!(adapter.contains("(Gl, "), "{report}");
+    assert!(adapter.contains("no trails on this adapter"), "{report}");
+    assert!(report["tick"].as_u64().unwrap() > 0, "{report}");
+    assert_eq!(report["tickAtPause"], report["tickAfterPause"], "{report}");
+    let image = Image::load_png(&shot).unwrap();
+    let total = (image.width * image.height) as usize;
+    // The panel and the 3D view are drawn; the body and its tick markers in explicit Euler's
+    // colour (no trail line joins them).
+    let [r, g, b, _] = volley::palette::integrator(volley::Integrator::ExplicitEuler);
+    assert!(near(&image, [r, g, b]) >= 20, "{}", shot.display());
+    assert!(near(&image, [248, 248, 248]) >= total / 10);
+    assert!(near(&image, [30, 30, 30]) >= total / 10);
+}
