@@ -440,12 +440,45 @@ impl App {
         }
     }
 
+    /// In a browser: opens what was picked in the page's file input, a recording (`.vrec`,
+    /// replayed and verified) or a scene or saved setup (anything else, read as a scene file).
+    #[cfg(target_arch = "wasm32")]
+    fn open_picked(&mut self) {
+        for (name, bytes) in web::take_picked() {
+            if name.ends_with(".vrec") {
+                let source = session::replaying::ReplaySource::Bytes {
+                    name: PathBuf::from(&name),
+                    bytes: bytes.into(),
+                };
+                if let Err(why) = self.replay_from(source) {
+                    self.refuse(why);
+                }
+                continue;
+            }
+            let stem = name.strip_suffix(".ron").unwrap_or(&name).to_string();
+            let loaded = String::from_utf8(bytes)
+                .map_err(|_| crate::SceneError {
+                    file: name.clone(),
+                    position: None,
+                    field: None,
+                    message: "not UTF-8 text".into(),
+                })
+                .and_then(|text| crate::scene::parse(&text, &name, &stem));
+            self.use_scene(loaded, Path::new(&name), false);
+        }
+    }
+
     /// Loads `path` and restarts on it; a bad file leaves the running scene and shows why.
     fn load_scene(&mut self, path: &Path, reload: bool) {
         #[cfg(not(target_arch = "wasm32"))]
         let loaded = crate::scene::load(path);
         #[cfg(target_arch = "wasm32")]
         let loaded = web::load(path);
+        self.use_scene(loaded, path, reload);
+    }
+
+    /// Restarts on `loaded` (from `path`); an error leaves the running scene and shows why.
+    fn use_scene(&mut self, loaded: Result<Scene, crate::SceneError>, path: &Path, reload: bool) {
         match loaded {
             Ok(scene) => {
                 let why = if reload {
@@ -807,7 +840,10 @@ impl ApplicationHandler for App {
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         #[cfg(target_arch = "wasm32")]
-        self.adopt_browser_gpu(event_loop);
+        {
+            self.adopt_browser_gpu(event_loop);
+            self.open_picked();
+        }
         if self.ending.is_some() {
             event_loop.exit();
             return;

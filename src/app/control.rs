@@ -150,8 +150,19 @@ impl App {
 
     /// Replays `path` in the window; a file that cannot be replayed leaves the session alone.
     fn replay(&mut self, path: &std::path::Path) -> Result<(), String> {
+        self.replay_from(super::session::replaying::ReplaySource::File(
+            path.to_path_buf(),
+        ))
+    }
+
+    /// Replays a recording from `source` (a file, or a browser's bytes); one that cannot be
+    /// replayed leaves the session alone.
+    pub(super) fn replay_from(
+        &mut self,
+        source: super::session::replaying::ReplaySource,
+    ) -> Result<(), String> {
         self.session
-            .start_replay(path, None)
+            .start_replay_from(source, None)
             .map_err(|e| e.to_string())?;
         self.ui.panel.sync(&self.session);
         self.rewatch();

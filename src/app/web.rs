@@ -33,6 +33,7 @@ pub fn start() {
     std::panic::set_hook(Box::new(|info| {
         show_error(&format!("the page's Volley stopped: {info}"));
     }));
+    listen_to_file_input();
     if let Err(message) = open() {
         show_error(&message);
     }
@@ -245,19 +246,93 @@ pub fn download_canvas(name: &str) {
         show_error(&format!("{name}: the canvas gave no image"));
         return;
     };
-    let saved = (|| {
+    click_download(name, &url);
+}
+
+/// Offers `bytes` as a download named `name` (a page's way of writing a file).
+pub fn download(name: &str, bytes: &[u8], mime: &str) {
+    let url = (|| {
+        let parts = js_sys::Array::of1(&js_sys::Uint8Array::from(bytes));
+        let options = web_sys::BlobPropertyBag::new();
+        options.set_type(mime);
+        let blob = web_sys::Blob::new_with_u8_array_sequence_and_options(&parts, &options).ok()?;
+        web_sys::Url::create_object_url_with_blob(&blob).ok()
+    })();
+    match url {
+        Some(url) => {
+            click_download(name, &url);
+            let _ = web_sys::Url::revoke_object_url(&url);
+        }
+        None => show_error(&format!("{name}: the browser refused the download")),
+    }
+}
+
+/// Clicks a link to `url` that downloads it as `name`.
+fn click_download(name: &str, url: &str) {
+    let clicked = (|| {
         let document = web_sys::window()?.document()?;
         let a = document
             .create_element("a")
             .ok()?
             .dyn_into::<web_sys::HtmlAnchorElement>()
             .ok()?;
-        a.set_href(&url);
+        a.set_href(url);
         a.set_download(name);
         a.click();
         Some(())
     })();
-    if saved.is_none() {
+    if clicked.is_none() {
         show_error(&format!("{name}: the browser refused the download"));
     }
+}
+
+thread_local! {
+    /// Files picked in the page's file input, (name, bytes), until the window takes them.
+    static PICKED: std::cell::RefCell<Vec<(String, Vec<u8>)>> = const {
+        std::cell::RefCell::new(Vec::new())
+    };
+}
+
+/// The files picked since the last call, oldest first.
+pub fn take_picked() -> Vec<(String, Vec<u8>)> {
+    PICKED.with(|p| std::mem::take(&mut *p.borrow_mut()))
+}
+
+/// Reads every file picked in the page's `#volley-open` input (if the page has one) into
+/// [`take_picked`]'s list.
+fn listen_to_file_input() {
+    use wasm_bindgen::closure::Closure;
+    let Some(input) = web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.get_element_by_id("volley-open"))
+        .and_then(|e| e.dyn_into::<web_sys::HtmlInputElement>().ok())
+    else {
+        return;
+    };
+    let target = input.clone();
+    let on_change = Closure::<dyn FnMut(web_sys::Event)>::new(move |_: web_sys::Event| {
+        let Some(files) = target.files() else {
+            return;
+        };
+        for i in 0..files.length() {
+            let Some(file) = files.get(i) else {
+                continue;
+            };
+            wasm_bindgen_futures::spawn_local(async move {
+                let name = file.name();
+                match wasm_bindgen_futures::JsFuture::from(file.array_buffer()).await {
+                    Ok(buffer) => {
+                        let bytes = js_sys::Uint8Array::new(&buffer).to_vec();
+                        PICKED.with(|p| p.borrow_mut().push((name, bytes)));
+                    }
+                    Err(_) => show_error(&format!("{name}: the browser could not read it")),
+                }
+            });
+        }
+        // The same file picked again is a change too.
+        target.set_value("");
+    });
+    let _ = input.add_event_listener_with_callback("change", on_change.as_ref().unchecked_ref());
+    // The page lives as long as the listener: nothing to drop it for.
+    on_change.forget();
 }

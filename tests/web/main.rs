@@ -63,8 +63,18 @@ fn page() -> Result<&'static Path, String> {
         .map_err(Clone::clone)
 }
 
-/// What open.mjs reported, as JSON.
+/// What open.mjs reported, as JSON, and the page's screenshot.
 fn open(test: &str, query: &str, frames: u32) -> Option<(serde_json::Value, PathBuf)> {
+    open_picking(test, query, frames, None)
+}
+
+/// [`open`], picking `pick` in the page's file input once the window runs.
+fn open_picking(
+    test: &str,
+    query: &str,
+    frames: u32,
+    pick: Option<&Path>,
+) -> Option<(serde_json::Value, PathBuf)> {
     if let Some(why) = missing() {
         support::unavailable(test, &why);
         return None;
@@ -77,7 +87,11 @@ fn open(test: &str, query: &str, frames: u32) -> Option<(serde_json::Value, Path
         }
     };
     let shot = support::scratch_dir(test).join("page.png");
-    let run = Command::new("node")
+    let mut node = Command::new("node");
+    if let Some(file) = pick {
+        node.env("PICK", file);
+    }
+    let run = node
         .arg(root().join("tests/web/open.mjs"))
         .arg(dir)
         .arg(query)
@@ -125,6 +139,17 @@ fn the_seed_opens_steps_pauses_and_screenshots_in_chromium() {
         r["framesAfterPause"].as_u64().unwrap() >= r["frames"].as_u64().unwrap() + 10,
         "{r}"
     );
+    // V, V: a recording made in the page, offered as a download, verifies on this machine.
+    let recorded = shot.with_file_name("page-recorded.vrec");
+    let name = r["recording"].as_str().unwrap_or_default();
+    assert!(name.starts_with("seed-") && name.ends_with(".vrec"), "{r}");
+    let (code, verdict, err) = volley_in(
+        root(),
+        &["replay", &recorded.display().to_string(), "--verify"],
+    );
+    assert_eq!(code, Some(0), "{verdict}{err}");
+    assert!(verdict.starts_with("verified "), "{verdict}");
+    assert!(err.contains("recorded on wasm32"), "{err}");
     // P: the window's screenshot as a download, named as the desktop names its file.
     let tick = r["tickAtPause"].as_u64().unwrap();
     assert_eq!(r["download"], format!("volley-tick{tick}.png"), "{r}");
@@ -291,4 +316,20 @@ fn webgl2_runs_the_seed_without_trails_and_says_so() {
     assert!(near(&image, [r, g, b]) >= 20, "{}", shot.display());
     assert!(near(&image, [248, 248, 248]) >= total / 10);
     assert!(near(&image, [30, 30, 30]) >= total / 10);
+}
+
+#[test]
+fn a_recording_picked_in_the_file_input_replays_and_verifies() {
+    // tests/data/golden.vrec, made by the CLI (docs/replays.md, "The golden recording").
+    let golden = root().join("tests/data/golden.vrec");
+    let Some((report, _)) = open_picking("browser_pick", "scene=bounce", 20, Some(&golden)) else {
+        return;
+    };
+    let (code, verdict, err) = volley_in(root(), &["replay", "tests/data/golden.vrec", "--verify"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(
+        report["picked"].as_str(),
+        Some(verdict.trim_end()),
+        "{report}"
+    );
 }

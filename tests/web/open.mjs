@@ -8,7 +8,10 @@
 // page offers as a download, saved beside SCREENSHOT as NAME-key-p.png), writes a screenshot of
 // the page to SCREENSHOT, and prints { frames, tick, tickAtPause, tickAfterPause, scene,
 // adapter, replay, download, error, console }. With `replay=` in QUERY it first waits for the
-// replay's verdict (the canvas's data-replay). A page that shows an
+// replay's verdict (the canvas's data-replay). Without it, V before the pause records a few
+// frames, which a page offers as a download (saved as NAME-recorded.vrec, named in
+// `recording`). With PICK=FILE in the environment, FILE is then picked in the page's file input
+// and its replay's verdict reported as `picked`. A page that shows an
 // error instead (`#volley-error`) is reported with that text as soon as it appears.
 import { createServer } from "node:http";
 import { readFile } from "node:fs/promises";
@@ -98,6 +101,37 @@ try {
     );
   }
   Object.assign(report, await canvasData());
+  const waitFrames = (n) =>
+    page.waitForFunction(
+      (m) => Number(document.querySelector("canvas").dataset.frames) >= m,
+      n,
+      { timeout: 120_000, polling: 100 },
+    );
+  const downloadOf = async (key, file) => {
+    const download = page.waitForEvent("download", { timeout: 60_000 });
+    await page.keyboard.press(key);
+    const d = await download.catch(() => null);
+    if (d === null) return null;
+    await d.saveAs(file);
+    return d.suggestedFilename();
+  };
+  if (report.error === null && !query.includes("replay=")) {
+    // V starts a recording and V again ends it: a page offers it as a download.
+    await page.locator("canvas").focus();
+    await page.keyboard.press("KeyV");
+    await waitFrames(report.frames + 15);
+    report.recording = await downloadOf("KeyV", screenshot.replace(/\.png$/, "-recorded.vrec"));
+  }
+  if (report.error === null && process.env.PICK) {
+    // A recording picked in the page's file input replays (and verifies) in the window.
+    await page.setInputFiles("#volley-open", process.env.PICK);
+    await page.waitForFunction(
+      () => /^verified|parts from/.test(document.querySelector("canvas").dataset.replay ?? ""),
+      null,
+      { timeout: 240_000, polling: 200 },
+    );
+    report.picked = (await canvasData()).replay;
+  }
   if (report.error === null) {
     // A key press reaches the window: Space pauses, so the tick stands still after it.
     await page.locator("canvas").focus();

@@ -33,7 +33,7 @@ pub const DEFAULT_NAME_TRIES: u32 = 100;
 
 /// A recording in progress.
 pub struct LiveRecording {
-    recorder: Recorder<File>,
+    recorder: Recorder<Sink>,
     path: PathBuf,
     /// The first write error; the recording stops taking ticks after it.
     error: Option<String>,
@@ -49,6 +49,53 @@ impl std::fmt::Debug for LiveRecording {
     }
 }
 
+/// Where a recording's bytes go: its file, or (in a browser, which writes no files) memory,
+/// offered as a download when the recording ends.
+#[derive(Debug)]
+pub enum Sink {
+    /// A file.
+    File(File),
+    /// Bytes kept for a download.
+    Download(Vec<u8>),
+}
+
+impl std::io::Write for Sink {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match self {
+            Sink::File(f) => f.write(buf),
+            Sink::Download(v) => v.write(buf),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            Sink::File(f) => f.flush(),
+            Sink::Download(_) => Ok(()),
+        }
+    }
+}
+
+impl Sink {
+    /// Hands the finished recording over: a file is complete already; bytes are offered as a
+    /// download named as the file would be.
+    fn deliver(self, path: &Path) {
+        match self {
+            Sink::File(_) => {}
+            #[cfg(target_arch = "wasm32")]
+            Sink::Download(bytes) => {
+                let name = path
+                    .file_name()
+                    .map_or("volley.vrec".into(), |n| n.to_string_lossy().into_owned());
+                crate::app::web::download(&name, &bytes, "application/octet-stream");
+            }
+            #[cfg(not(target_arch = "wasm32"))]
+            Sink::Download(_) => {
+                let _ = path;
+            }
+        }
+    }
+}
+
 impl LiveRecording {
     /// Creates `path` (and its folder) and starts recording `world` as it is now; `scene_file`
     /// names the scene in the header.
@@ -56,12 +103,12 @@ impl LiveRecording {
         let fail = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
         create_folder_of(path)?;
         let file = File::create(path).map_err(fail)?;
-        LiveRecording::start_in(file, path, world, scene_file)
+        LiveRecording::start_in(Sink::File(file), path, world, scene_file)
     }
 
     /// Starts recording `world` into `file`, already created at `path`.
     fn start_in(
-        file: File,
+        sink: Sink,
         path: &Path,
         world: &World,
         scene_file: &str,
@@ -71,7 +118,7 @@ impl LiveRecording {
             scene_file: scene_file.to_string(),
             ..RecordOptions::default()
         };
-        let recorder = Recorder::start(file, world, options).map_err(fail)?;
+        let recorder = Recorder::start(sink, world, options).map_err(fail)?;
         Ok(LiveRecording {
             recorder,
             path: path.to_path_buf(),
@@ -98,7 +145,10 @@ impl LiveRecording {
     pub fn finish(self, world: &World, ended: &str) -> FinishedRecording {
         let (stats, error) = match (self.error, self.recorder.finish(world)) {
             (Some(e), _) => (None, Some(e)),
-            (None, Ok((_, stats))) => (Some(stats), None),
+            (None, Ok((sink, stats))) => {
+                sink.deliver(&self.path);
+                (Some(stats), None)
+            }
             (None, Err(e)) => (None, Some(format!("cannot write: {e}"))),
         };
         FinishedRecording {
@@ -112,7 +162,7 @@ impl LiveRecording {
 
     /// Forwards one observer call unless an earlier one failed; a failure is kept, not
     /// returned, so the simulation goes on without the recording.
-    fn forward(&mut self, call: impl FnOnce(&mut Recorder<File>) -> Result<(), ObserverError>) {
+    fn forward(&mut self, call: impl FnOnce(&mut Recorder<Sink>) -> Result<(), ObserverError>) {
         if self.error.is_none()
             && let Err(e) = call(&mut self.recorder)
         {
@@ -190,8 +240,20 @@ impl Session {
             None => {
                 let now = SystemTime::now().duration_since(UNIX_EPOCH);
                 let seconds = now.map_or(0, |d| d.as_secs());
-                let (path, file) = create_default(&self.recordings_dir, &self.scene.name, seconds)?;
-                LiveRecording::start_in(file, &path, world, &self.scene_file)?
+                if cfg!(target_arch = "wasm32") {
+                    // A page writes no files: the recording is kept and downloaded at its end.
+                    let path = default_path(Path::new(""), &self.scene.name, seconds, 1);
+                    LiveRecording::start_in(
+                        Sink::Download(Vec::new()),
+                        &path,
+                        world,
+                        &self.scene_file,
+                    )?
+                } else {
+                    let (path, file) =
+                        create_default(&self.recordings_dir, &self.scene.name, seconds)?;
+                    LiveRecording::start_in(Sink::File(file), &path, world, &self.scene_file)?
+                }
             }
         };
         self.recording = Some(recording);

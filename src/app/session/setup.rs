@@ -51,14 +51,27 @@ impl Session {
         scene
     }
 
-    /// Writes [`Session::setup`] as `DIR/setups/SCENE-tickN.ron` and returns the path.
+    /// Writes [`Session::setup`] as `DIR/setups/SCENE-tickN.ron` and returns the path. A
+    /// browser page, which writes no files, offers it as a download of that name instead.
     pub fn save_setup(&self, dir: &std::path::Path) -> Result<std::path::PathBuf, String> {
         let setup = self.setup();
-        let folder = dir.join("setups");
-        std::fs::create_dir_all(&folder).map_err(|e| format!("{}: {e}", folder.display()))?;
-        let name = setup.name.replace([' ', '/'], "_");
-        let path = folder.join(format!("{name}-tick{}.ron", self.world().tick()));
-        std::fs::write(&path, setup.to_ron()).map_err(|e| format!("{}: {e}", path.display()))?;
-        Ok(path)
+        #[cfg(target_arch = "wasm32")]
+        {
+            let _ = dir;
+            let name = setup.name.replace([' ', '/'], "_");
+            let file = format!("{name}-tick{}.ron", self.world().tick());
+            crate::app::web::download(&file, setup.to_ron().as_bytes(), "text/plain");
+            Ok(std::path::PathBuf::from(format!("{file} (downloaded)")))
+        }
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let folder = dir.join("setups");
+            std::fs::create_dir_all(&folder).map_err(|e| format!("{}: {e}", folder.display()))?;
+            let name = setup.name.replace([' ', '/'], "_");
+            let path = folder.join(format!("{name}-tick{}.ron", self.world().tick()));
+            std::fs::write(&path, setup.to_ron())
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            Ok(path)
+        }
     }
 }
