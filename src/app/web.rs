@@ -1,7 +1,8 @@
 //! The browser build's side of the window: the same [`App`](super) on winit's web backend,
 //! started from the page (crates/volley-web), with the page's URL as its command line.
 //!
-//! - `?scene=NAME` opens a bundled scene (`seed` without one); `?integrator=NAME` picks the
+//! - `?scene=NAME` opens a bundled scene (`seed` without one), `?scene=URL.ron` a scene or
+//!   saved setup fetched from that URL; `?integrator=NAME` picks the
 //!   integrator as `--integrator` does; `?backend=webgl` keeps to WebGL2 even where the
 //!   browser has WebGPU (`webgpu` the other way; both, WebGPU first, without it). A name that is not one shows the CLI's one-line error in
 //!   the page (`#volley-error`) instead of the window.
@@ -57,8 +58,17 @@ fn open() -> Result<(), String> {
         return Ok(());
     }
     let name = param("scene").unwrap_or_else(|| "seed".into());
+    let bundled = crate::scene::BUNDLED.iter().any(|(n, _)| *n == name);
+    if !bundled && name.ends_with(".ron") {
+        wasm_bindgen_futures::spawn_local(async move {
+            if let Err(message) = open_scene_url(&name).await {
+                show_error(&message);
+            }
+        });
+        return Ok(());
+    }
     // A page has no files: a name that is not bundled gets the CLI's line for it.
-    if !crate::scene::BUNDLED.iter().any(|(n, _)| *n == name) {
+    if !bundled {
         return Err(format!("error: {}", crate::no_such_scene(&name)));
     }
     let mut scene = crate::scene::bundled(&name).map_err(|e| format!("error: {e}"))?;
@@ -78,6 +88,23 @@ fn open() -> Result<(), String> {
     let path = PathBuf::from(format!("assets/scenes/{name}.ron"));
     let compare = scene.compare.clone();
     let session = Session::with_lanes(scene, &path, compare.clone(), false);
+    run(session, compare)
+}
+
+/// `?scene=URL.ron`: fetches a scene or saved setup and opens it, checked as `volley window
+/// FILE` checks it (errors name the URL, line and column).
+async fn open_scene_url(url: &str) -> Result<(), String> {
+    let bytes = fetch(url).await.map_err(|e| format!("error: {url}: {e}"))?;
+    let text = String::from_utf8(bytes).map_err(|_| format!("error: {url}: not UTF-8 text"))?;
+    let stem = url
+        .rsplit('/')
+        .next()
+        .unwrap_or(url)
+        .trim_end_matches(".ron")
+        .to_string();
+    let scene = crate::scene::parse(&text, url, &stem).map_err(|e| format!("error: {e}"))?;
+    let compare = scene.compare.clone();
+    let session = Session::with_lanes(scene, &PathBuf::from(url), compare.clone(), false);
     run(session, compare)
 }
 

@@ -333,3 +333,34 @@ fn a_recording_picked_in_the_file_input_replays_and_verifies() {
         "{report}"
     );
 }
+
+#[test]
+fn a_scene_from_a_url_opens_and_a_broken_one_shows_the_command_lines_error() {
+    if missing().is_some() || page().is_err() {
+        return drop(open("browser_scene_url", "", 1));
+    }
+    let dir = page().unwrap();
+    std::fs::copy(
+        root().join("assets/scenes/drag.ron"),
+        dir.join("url-drag.ron"),
+    )
+    .unwrap();
+    let Some((report, _)) = open("browser_scene_url", "scene=url-drag.ron", 10) else {
+        return;
+    };
+    assert_eq!(report["error"], serde_json::Value::Null, "{report}");
+    // The file names no scene: it is named after the file, as `volley window FILE` names it.
+    assert_eq!(report["scene"], "url-drag", "{report}");
+    // A scene with a field missing: the CLI's line, naming the file, line and column.
+    std::fs::write(
+        dir.join("url-broken.ron"),
+        "Scene(\n  name: \"x\",\n  dt: 0.01,\n)\n",
+    )
+    .unwrap();
+    let (code, _, err) = volley_in(dir, &["headless", "url-broken.ron"]);
+    assert_eq!(code, Some(2), "{err}");
+    let Some((report, _)) = open("browser_broken_scene_url", "scene=url-broken.ron", 1) else {
+        return;
+    };
+    assert_eq!(report["error"].as_str(), Some(err.trim_end()), "{report}");
+}
