@@ -67,7 +67,9 @@ fn recording(ui: &mut Ui, session: &Session, out: &mut Vec<Action>) {
             Color32::LIGHT_RED
         };
         ui.colored_label(c, last.to_string());
-        if named_button(ui, "Replay it").clicked() {
+        // A page keeps no file to replay: the recording was downloaded (open it again with
+        // the page's file input).
+        if cfg!(not(target_arch = "wasm32")) && named_button(ui, "Replay it").clicked() {
             out.push(Action::Replay(last.path.clone()));
         }
     }

@@ -83,9 +83,8 @@ impl Sink {
             Sink::File(_) => {}
             #[cfg(target_arch = "wasm32")]
             Sink::Download(bytes) => {
-                let name = path
-                    .file_name()
-                    .map_or("volley.vrec".into(), |n| n.to_string_lossy().into_owned());
+                let name = path.to_string_lossy();
+                let name = name.strip_suffix(" (a download)").unwrap_or(&name);
                 crate::app::web::download(&name, &bytes, "application/octet-stream");
             }
             #[cfg(not(target_arch = "wasm32"))]
@@ -243,6 +242,10 @@ impl Session {
                 if cfg!(target_arch = "wasm32") {
                     // A page writes no files: the recording is kept and downloaded at its end.
                     let path = default_path(Path::new(""), &self.scene.name, seconds, 1);
+                    let path = PathBuf::from(format!(
+                        "{} (a download)",
+                        path.file_name().unwrap_or_default().to_string_lossy()
+                    ));
                     LiveRecording::start_in(
                         Sink::Download(Vec::new()),
                         &path,
