@@ -63,6 +63,17 @@ fn page() -> Result<&'static Path, String> {
         .map_err(Clone::clone)
 }
 
+/// The built page's folder, for a test that puts files beside it; `None` after saying why
+/// there is none.
+fn page_dir(test: &str) -> Option<&'static Path> {
+    let why = match (missing(), page()) {
+        (None, Ok(dir)) => return Some(dir),
+        (Some(why), _) | (None, Err(why)) => why,
+    };
+    support::unavailable(test, &why);
+    None
+}
+
 /// What open.mjs reported, as JSON, and the page's screenshot.
 fn open(test: &str, query: &str, frames: u32) -> Option<(serde_json::Value, PathBuf)> {
     open_picking(test, query, frames, None)
@@ -230,10 +241,9 @@ fn volley_in(dir: &Path, args: &[&str]) -> (Option<i32>, String, String) {
 
 #[test]
 fn a_recording_the_cli_made_verifies_in_the_page() {
-    if missing().is_some() || page().is_err() {
-        return drop(open("browser_replay", "", 1));
-    }
-    let dir = page().unwrap();
+    let Some(dir) = page_dir("browser_replay") else {
+        return;
+    };
     // The replay tests' scene and script: a seeded volley, bounces, a wall, a target, a spring,
     // drag toggled, every kind of command, velocity Verlet's carried force; recorded here by
     // the CLI, replayed by the page in wasm32.
@@ -275,10 +285,9 @@ fn a_recording_the_cli_made_verifies_in_the_page() {
 
 #[test]
 fn a_broken_recording_shows_the_command_lines_error_in_the_page() {
-    if missing().is_some() || page().is_err() {
-        return drop(open("browser_broken_replay", "", 1));
-    }
-    let dir = page().unwrap();
+    let Some(dir) = page_dir("browser_broken_replay") else {
+        return;
+    };
     let file = "browser-broken.vrec";
     std::fs::write(dir.join(file), b"this is not a recording").unwrap();
     let (code, _, err) = volley_in(dir, &["replay", file, "--verify"]);
@@ -336,10 +345,9 @@ fn a_recording_picked_in_the_file_input_replays_and_verifies() {
 
 #[test]
 fn a_scene_from_a_url_opens_and_a_broken_one_shows_the_command_lines_error() {
-    if missing().is_some() || page().is_err() {
-        return drop(open("browser_scene_url", "", 1));
-    }
-    let dir = page().unwrap();
+    let Some(dir) = page_dir("browser_scene_url") else {
+        return;
+    };
     std::fs::copy(
         root().join("assets/scenes/drag.ron"),
         dir.join("url-drag.ron"),
