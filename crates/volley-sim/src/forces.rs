@@ -17,11 +17,13 @@ use crate::body::Mass;
 
 mod custom;
 mod fast_path;
+mod kind;
 mod mach_drag;
 mod thrust;
 
 pub use custom::{CustomForce, CustomForceError, ForceTerm, register, resolve};
 pub use fast_path::{ConstantField, DragField};
+pub use kind::ForceKind;
 pub use mach_drag::{
     AirModel, DragCurve, DragSize, KG_M2_PER_LB_IN2, LiftModel, MachDrag, NATHAN_DECAY_SPEED,
     RAD_S_PER_RPM, SpinDecay, SpinLift, Wind,
@@ -121,66 +123,6 @@ pub struct PointMass {
     pub center: DVec3,
     /// Gravitational parameter mu = G M (m^3/s^2).
     pub mu: f64,
-}
-
-/// The kinds of force term, used to toggle a term and to name one in errors.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
-pub enum ForceKind {
-    /// Uniform gravitational acceleration.
-    Gravity,
-    /// A constant force such as wind or thrust.
-    ConstantForce,
-    /// Drag proportional to velocity.
-    LinearDrag,
-    /// Drag proportional to speed squared.
-    QuadraticDrag,
-    /// Spring to an anchor.
-    Spring,
-    /// Attraction to a point mass.
-    PointMass,
-    /// Drag against a Mach-dependent curve in moving air.
-    MachDrag,
-    /// A game's own term ([`ForceTerm`]).
-    Custom,
-    /// A motor's thrust, the body's mass falling as it burns.
-    Thrust,
-}
-
-impl ForceKind {
-    /// Every kind, in evaluation order.
-    pub const ALL: [ForceKind; 9] = [
-        ForceKind::Gravity,
-        ForceKind::ConstantForce,
-        ForceKind::LinearDrag,
-        ForceKind::QuadraticDrag,
-        ForceKind::Spring,
-        ForceKind::PointMass,
-        ForceKind::MachDrag,
-        ForceKind::Custom,
-        ForceKind::Thrust,
-    ];
-
-    /// The name used in scene files and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            ForceKind::Gravity => "Gravity",
-            ForceKind::ConstantForce => "ConstantForce",
-            ForceKind::LinearDrag => "LinearDrag",
-            ForceKind::QuadraticDrag => "QuadraticDrag",
-            ForceKind::Spring => "Spring",
-            ForceKind::PointMass => "PointMass",
-            ForceKind::MachDrag => "MachDrag",
-            ForceKind::Custom => "Custom",
-            ForceKind::Thrust => "Thrust",
-        }
-    }
-
-    /// Parses a name as written by [`ForceKind::name`], ignoring ASCII case.
-    pub fn parse(name: &str) -> Option<ForceKind> {
-        ForceKind::ALL
-            .into_iter()
-            .find(|k| k.name().eq_ignore_ascii_case(name))
-    }
 }
 
 /// The kinds that can add energy ([`Forces::potential`]), in the order [`ForceModel::energy`]
