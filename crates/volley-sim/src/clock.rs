@@ -21,8 +21,7 @@
 
 use std::time::Duration;
 
-// std's on native; the browser's clock on wasm32, where std's panics.
-use web_time::Instant;
+use crate::instant::Instant;
 
 use crate::rng::SplitMix64;
 

@@ -57,8 +57,10 @@
 // from its own layer or the ones below it.
 
 // 1. Plain data with no dependency inside the crate: ids, per-body state and columns; the
-//    world's one seeded generator; CPU-feature dispatch for the per-body loops.
+//    world's one seeded generator; CPU-feature dispatch for the per-body loops; the wall
+//    clock's `Instant` (std's, or the browser's with the `web` feature).
 mod body;
+mod instant;
 mod rng;
 mod simd;
 

@@ -59,8 +59,7 @@ pub mod shard;
 use std::sync::Mutex;
 use std::time::Duration;
 
-// std's on native; the browser's clock on wasm32, where std's panics.
-use web_time::Instant;
+use crate::instant::Instant;
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

@@ -23,8 +23,7 @@
 use std::io::{self, BufWriter, Write};
 use std::time::Duration;
 
-// std's on native; the browser's clock on wasm32, where std's panics.
-use web_time::Instant;
+use crate::instant::Instant;
 
 use crate::command::Stamped;
 use crate::hash::state_hash;
