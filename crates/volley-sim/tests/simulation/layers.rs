@@ -6,7 +6,7 @@ use std::path::Path;
 
 /// The layers, bottom up; a module may use its own layer and those below.
 const LAYERS: &[&[&str]] = &[
-    &["body", "rng", "simd"],
+    &["body", "instant", "rng", "simd"],
     &["atmosphere", "drag", "forces"],
     &["exact"],
     &["integrate"],
