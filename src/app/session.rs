@@ -131,6 +131,18 @@ pub struct Session {
     pacing: pacing::PacingLog,
 }
 
+/// Why the scene refuses the compare lanes it cannot run (`exact: ...; exact: ...`), if it
+/// refuses any: the window's panel and `volley window --compare` say it in the same words.
+pub fn compare_refusals(lanes: &[CompareLane], scene: &Scene) -> Option<String> {
+    let mut refusals: Vec<String> = lanes
+        .iter()
+        .filter_map(|l| l.apply(scene).err())
+        .map(|e| e.message)
+        .collect();
+    refusals.dedup();
+    (!refusals.is_empty()).then(|| refusals.join("; "))
+}
+
 impl Session {
     /// A session on `scene` (read from `path`); `compare` lists the integrators of compare mode
     /// (empty: one lane with the scene's integrator).
@@ -235,7 +247,8 @@ impl Session {
 
     /// Builds every lane afresh at tick 0. If the scene refuses every compared integrator
     /// (`exact` without a closed form), compare mode ends and one lane of the scene's integrator
-    /// runs; the refusal says so.
+    /// runs; the refusal says so. If it refuses some, the others run and the refusal names the
+    /// ones left out, with the scene's reason.
     fn build_lanes(&mut self) -> Result<(), String> {
         let mut refused = Ok(());
         let mut scenes = self.lane_scenes();
@@ -246,6 +259,8 @@ impl Session {
             ));
             self.compare.clear();
             scenes = self.lane_scenes();
+        } else if let Some(reasons) = compare_refusals(&self.compare, &self.scene) {
+            refused = Err(format!("compare mode leaves out {reasons}"));
         }
         let origin = self.bounds.center();
         self.lanes = scenes

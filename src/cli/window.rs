@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use volley::app::session::compare_refusals;
 use volley::app::{self, WindowOptions};
 use volley::scene::{CompareLane, Scene};
 
@@ -123,23 +124,18 @@ pub fn parse_compare(list: &str) -> Result<Vec<CompareLane>, Failure> {
 
 /// `--compare`'s lanes, refused in one line if the scene can run none of them (the window
 /// would fall back to one lane of the scene's own integrator); a lane it cannot run is left out
-/// in the window, as the panel's picks are.
+/// in the window, as the panel's picks are, with a warning naming it and the scene's reason.
 fn runnable(lanes: Vec<CompareLane>, scene: &Scene) -> Result<Vec<CompareLane>, Failure> {
-    let mut refusals: Vec<String> = lanes
-        .iter()
-        .filter_map(|l| l.apply(scene).err())
-        .map(|e| e.message)
-        .collect();
-    if refusals.len() < lanes.len() || lanes.is_empty() {
+    let Some(reasons) = compare_refusals(&lanes, scene) else {
+        return Ok(lanes);
+    };
+    if lanes.iter().any(|l| l.apply(scene).is_ok()) {
+        eprintln!("warning: --compare: the window leaves out {reasons}");
         return Ok(lanes);
     }
-    refusals.dedup();
     Err(fail(
         EXIT_INPUT,
-        format!(
-            "--compare: none of the compared integrators can run this scene ({})",
-            refusals.join("; ")
-        ),
+        format!("--compare: none of the compared integrators can run this scene ({reasons})"),
     ))
 }
 

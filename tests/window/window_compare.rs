@@ -184,3 +184,53 @@ fn the_new_integrators_run_as_lanes_and_report_their_counted_cost() {
         }
     }
 }
+
+/// `exact` has no closed form under the rifle's Mach drag: a compare list with it runs the
+/// other lanes, and both the panel (the refusal) and `volley window --compare` (a warning) name
+/// the lane left out with the scene's reason.
+#[test]
+fn a_compare_lane_the_scene_refuses_is_left_out_and_named() {
+    let path = support::crate_path("assets/scenes/rifle.ron");
+    let lanes = vec![
+        CompareLane::of(Integrator::Exact),
+        CompareLane::of(Integrator::Rk4),
+    ];
+    let mut s = Session::with_lanes(scene::load(&path).unwrap(), &path, lanes, false);
+    let running: Vec<Integrator> = s.lanes().iter().map(|l| l.sim.world.integrator()).collect();
+    assert_eq!(running, vec![Integrator::Rk4]);
+    let refusal = s
+        .set_compare(vec![Integrator::Exact, Integrator::Rk4])
+        .unwrap_err();
+    assert!(
+        refusal.starts_with("compare mode leaves out exact: "),
+        "{refusal}"
+    );
+    assert_eq!(s.lanes().len(), 1);
+    // Every lane runnable: no refusal.
+    s.set_compare(vec![Integrator::Rk4, Integrator::VelocityVerlet])
+        .unwrap();
+    assert_eq!(s.lanes().len(), 2);
+
+    let test = "a_compare_lane_the_scene_refuses_is_left_out_and_named";
+    let args = [
+        "window",
+        "rifle",
+        "--compare",
+        "exact,rk4",
+        "--exit-after-frames",
+        "2",
+        "--no-watch",
+    ];
+    let Some(out) = crate::window_smoke::under_xvfb(test, &args) else {
+        return;
+    };
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let warning = stderr
+        .lines()
+        .find(|l| l.starts_with("warning: --compare: the window leaves out exact: "));
+    assert!(warning.is_some(), "{stderr}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("lane rk4: tick "), "{stdout}");
+    assert!(!stdout.contains("lane exact"), "{stdout}");
+}
