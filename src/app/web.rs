@@ -10,7 +10,8 @@
 //!   from any URL the page may fetch) and replays it, verifying every stored hash and keyframe.
 //! - The canvas carries what a test or a curious user can read without a debugger:
 //!   `data-frames` (frames drawn), `data-tick` (the first lane's tick), `data-scene`,
-//!   `data-adapter` and, while replaying, `data-replay` (the verdict line).
+//!   `data-adapter`, `data-lanes` (the lanes' integrators, comma-separated), `data-aims` (how
+//!   many lanes fired their last aim) and, while replaying, `data-replay` (the verdict line).
 //!
 //! What a page cannot do is said in the panel where it matters: there is no file to watch for
 //! hot reload, and recordings, screenshots and PNG plots are not written (no file system).
@@ -229,12 +230,25 @@ fn set_data(key: &str, value: &str) {
     }
 }
 
-/// After a frame: the frame count, the first lane's tick, the scene's name and, while
-/// replaying, the replay's verdict line (the one `volley replay --verify` prints) on the canvas.
+/// After a frame: the frame count, the first lane's tick, the scene's name, the lanes'
+/// integrators and how many of them fired their last aim, and while replaying, the replay's
+/// verdict line (the one `volley replay --verify` prints) on the canvas.
 pub fn after_frame(session: &Session, frames: u64) {
     set_data("frames", &frames.to_string());
     set_data("tick", &session.world().tick().to_string());
     set_data("scene", &session.scene().name);
+    let lanes: Vec<&str> = session
+        .lanes()
+        .iter()
+        .map(|lane| lane.sim.world.integrator().name())
+        .collect();
+    set_data("lanes", &lanes.join(","));
+    let fired = session
+        .lanes()
+        .iter()
+        .filter(|lane| lane.aim.as_ref().is_some_and(|aim| aim.outcome.is_ok()))
+        .count();
+    set_data("aims", &fired.to_string());
     if let Some(verdict) = session.replay_verdict() {
         set_data("replay", &verdict.line());
     }

@@ -76,15 +76,16 @@ fn page_dir(test: &str) -> Option<&'static Path> {
 
 /// What open.mjs reported, as JSON, and the page's screenshot.
 fn open(test: &str, query: &str, frames: u32) -> Option<(serde_json::Value, PathBuf)> {
-    open_picking(test, query, frames, None)
+    open_with(test, query, frames, &[])
 }
 
-/// [`open`], picking `pick` in the page's file input once the window runs.
-fn open_picking(
+/// [`open`] with open.mjs's optional steps asked for in its environment: `PICK` (a file picked
+/// in the page's file input once the window runs) and `KEYS` (keys pressed in turn).
+fn open_with(
     test: &str,
     query: &str,
     frames: u32,
-    pick: Option<&Path>,
+    env: &[(&str, &std::ffi::OsStr)],
 ) -> Option<(serde_json::Value, PathBuf)> {
     if let Some(why) = missing() {
         support::unavailable(test, &why);
@@ -98,11 +99,8 @@ fn open_picking(
         }
     };
     let shot = support::scratch_dir(test).join("page.png");
-    let mut node = Command::new("node");
-    if let Some(file) = pick {
-        node.env("PICK", file);
-    }
-    let run = node
+    let run = Command::new("node")
+        .envs(env.iter().copied())
         .arg(root().join("tests/web/open.mjs"))
         .arg(dir)
         .arg(query)
@@ -331,7 +329,12 @@ fn webgl2_runs_the_seed_without_trails_and_says_so() {
 fn a_recording_picked_in_the_file_input_replays_and_verifies() {
     // tests/data/golden.vrec, made by the CLI (docs/replays.md, "The golden recording").
     let golden = root().join("tests/data/golden.vrec");
-    let Some((report, _)) = open_picking("browser_pick", "scene=bounce", 20, Some(&golden)) else {
+    let Some((report, _)) = open_with(
+        "browser_pick",
+        "scene=bounce",
+        20,
+        &[("PICK", golden.as_os_str())],
+    ) else {
         return;
     };
     let (code, verdict, err) = volley_in(root(), &["replay", "tests/data/golden.vrec", "--verify"]);
@@ -371,4 +374,58 @@ fn a_scene_from_a_url_opens_and_a_broken_one_shows_the_command_lines_error() {
         return;
     };
     assert_eq!(report["error"].as_str(), Some(err.trim_end()), "{report}");
+}
+
+#[test]
+fn compare_plots_and_aim_run_in_the_page() {
+    // C: compare mode with the panel's default set; a: every lane aims at the seed's target
+    // (high arc) and fires its own solution, on the page's one thread. The plots are on from
+    // the start.
+    let keys = std::ffi::OsStr::new("KeyC KeyA");
+    let Some((report, shot)) = open_with("browser_compare", "scene=seed", 30, &[("KEYS", keys)])
+    else {
+        return;
+    };
+    let r = &report;
+    assert_eq!(r["error"], serde_json::Value::Null, "{r}");
+    let lanes: Vec<&str> = r["keys"]["lanes"].as_str().unwrap().split(',').collect();
+    let expected: Vec<&str> = volley::app::input::DEFAULT_COMPARE
+        .iter()
+        .map(|i| i.name())
+        .collect();
+    assert_eq!(lanes, expected, "{r}");
+    // Each lane solved its own aim on its stepped trajectory and fired it.
+    assert_eq!(r["keys"]["aims"].as_u64(), Some(lanes.len() as u64), "{r}");
+    assert!(r["keys"]["tick"].as_u64().unwrap() > 0, "{r}");
+    // The window's screenshot (P) shows every lane's colour, and the plots below the 3D view:
+    // the panel's light grey over most of that strip, where the view alone is dark.
+    let image = Image::load_png(&shot.with_file_name("page-key-p.png")).unwrap();
+    for integrator in volley::app::input::DEFAULT_COMPARE {
+        let [red, green, blue, _] = volley::palette::integrator(integrator);
+        let n = near(&image, [red, green, blue]);
+        assert!(
+            n >= 50,
+            "{}: {n} pixels ({})",
+            integrator.name(),
+            shot.display()
+        );
+    }
+    let (x0, y0) = (420, 660);
+    let width = image.width as usize;
+    let strip = image
+        .rgba
+        .chunks_exact(4)
+        .enumerate()
+        .filter(|(i, _)| i % width >= x0 && i / width >= y0);
+    let (light, all) = strip.fold((0, 0), |(light, all), (_, p)| {
+        (
+            light + usize::from(p[..3].iter().all(|&c| c >= 208)),
+            all + 1,
+        )
+    });
+    assert!(
+        light * 2 >= all,
+        "plots: {light} of {all} light pixels ({})",
+        shot.display()
+    );
 }

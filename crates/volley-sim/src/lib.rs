@@ -37,6 +37,10 @@
 //! - **Aim**: [`solve_aim`], launches that hit in the simulation as stepped, and a rifle's
 //!   zero with its [`holdover`] table.
 //!
+//! In a browser (wasm32 with wasm-bindgen), turn on the `web` feature: the few wall-clock reads
+//! ([`RealClock`], the recorder's flush timer) then use the browser's clock. Without it the
+//! crate's wasm32 build imports nothing from its host.
+//!
 //! docs/library.md walks through them. The modules behind these names are private. Volley's own
 //! window, CLI, tests, benches and fuzz targets reach them through one hidden module,
 //! `volley_sim::internals`: the per-body columns, vector widths, the step's chunking, the study,
