@@ -12,7 +12,7 @@
 //!
 //! The harness bounds the *stepping* it does per input (not what it parses or builds): a scene
 //! may legally ask for a million bodies at ten thousand substeps, and stepping that is slow by
-//! design, not a finding. So [`scene`] builds a world only up to [`MAX_FUZZ_BODIES`] bodies and
+//! design, not a finding. So [`scene()`] builds a world only up to [`MAX_FUZZ_BODIES`] bodies and
 //! steps at most [`MAX_FUZZ_BODY_STEPS`] body-steps; the library's own limits (docs/limits.md)
 //! are what bounds a real run.
 
@@ -27,7 +27,7 @@ use volley_sim::internals::replay::{Recording, Replay};
 use volley_sim::internals::scene::{self, Scene};
 use volley_sim::internals::study::shard::{ShardResult, merge};
 
-/// Most bodies [`scene`] builds a world for (more are parsed and validated, not built).
+/// Most bodies [`scene()`] builds a world for (more are parsed and validated, not built).
 pub const MAX_FUZZ_BODIES: usize = 4096;
 /// Most body-steps (bodies × substeps × ticks) one input is stepped for.
 pub const MAX_FUZZ_BODY_STEPS: u64 = 200_000;

@@ -10,7 +10,7 @@
 //!   error so far, one point per lane, both log: the study's diagram as the run goes.
 //!
 //! Hovering reads sim time and value. "Save plots" writes the series as CSV and the diagram as
-//! PNG ([`write`]).
+//! PNG ([`write()`]).
 
 use super::{PanelState, named_button};
 use std::path::{Path, PathBuf};
@@ -293,7 +293,7 @@ fn energy_plot(ui: &mut Ui, lanes: &[Lane], height: f32) {
 const LEGEND_SHARE: (f64, f64) = (0.7, 0.6);
 
 /// The corner of the work-precision plot for its legend: the one whose legend-sized share of
-/// the points' bounding box ([`LEGEND_SHARE`], log axes) holds the fewest points, so the legend
+/// the points' bounding box (`LEGEND_SHARE`, log axes) holds the fewest points, so the legend
 /// hides none where it can. The points run from cheap and coarse (top left) to dear and
 /// accurate (bottom right), and where a lane sits between them depends on the scene; ties go to
 /// the first of top right, bottom left, bottom right, top left.

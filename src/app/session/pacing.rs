@@ -1,7 +1,7 @@
 //! The loop lab in the window: what the first lane's loop did with each frame, and what the
 //! frame showed against the exact motion at the moment it reached the screen.
 //!
-//! Each frame [`PacingLog::record`] keeps the ticks the frame ran, the draw modes' display
+//! Each frame `PacingLog::record` keeps the ticks the frame ran, the draw modes' display
 //! errors for the measured body, and the drawn and exact positions for the judder ghosts, over
 //! the last [`PACING_FRAMES`] frames. The error is the lab's ([`crate::pacing::lab`]): the
 //! distance from the drawn position to the closed form at the frame's display time. That time
