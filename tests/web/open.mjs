@@ -11,9 +11,10 @@
 // replay's verdict (the canvas's data-replay). Without it, V before the pause records a few
 // frames, which a page offers as a download (saved as NAME-recorded.vrec, named in
 // `recording`). With PICK=FILE in the environment, FILE is then picked in the page's file input
-// and its replay's verdict reported as `picked`. With KEYS="KeyC KeyK ..." those keys are
-// pressed ten frames apart and the canvas's lanes, aims and tick reported as `keys`. A page that shows an
-// error instead (`#volley-error`) is reported with that text as soon as it appears.
+// and its replay's verdict reported as `picked`. With KEYS="KeyC KeyA ..." those keys are
+// pressed ten frames apart and the canvas's lanes, aims and tick reported as `keys`. A page
+// that shows an error instead (`#volley-error`) is reported with that text as soon as it
+// appears.
 import { createServer } from "node:http";
 import { readFile } from "node:fs/promises";
 import { extname, join, normalize } from "node:path";
@@ -134,7 +135,7 @@ try {
     report.picked = (await canvasData()).replay;
   }
   if (report.error === null && process.env.KEYS) {
-    // KEYS="KeyC KeyK": each key pressed in turn, ten frames apart, then the lanes and aims
+    // KEYS="KeyC KeyA": each key pressed in turn, ten frames apart, then the lanes and aims
     // the canvas reports.
     await page.locator("canvas").focus();
     for (const key of process.env.KEYS.split(" ").filter(Boolean)) {
@@ -144,7 +145,11 @@ try {
     await waitFrames((await canvasData()).frames + 30);
     report.keys = await page.evaluate(() => {
       const c = document.querySelector("canvas");
-      return { lanes: c.dataset.lanes ?? "", aims: Number(c.dataset.aims ?? 0), tick: Number(c.dataset.tick) };
+      return {
+        lanes: c.dataset.lanes ?? "",
+        aims: Number(c.dataset.aims ?? 0),
+        tick: Number(c.dataset.tick),
+      };
     });
   }
   if (report.error === null) {
