@@ -191,8 +191,7 @@ pub fn load_commands(path: Option<&PathBuf>) -> Result<Vec<Stamped>, Failure> {
     let Some(path) = path else {
         return Ok(Vec::new());
     };
-    let text = volley::scene::read_text(path)
-        .map_err(|e| fail(EXIT_INPUT, format!("{}: cannot read: {e}", path.display())))?;
+    let text = super::read_input(path)?;
     volley::command::parse_script(&text, &path.display().to_string())
         .map_err(|e| fail(EXIT_INPUT, e))
 }

@@ -193,9 +193,7 @@ impl DisplayArgs {
         }
         let script = match &self.script {
             Some(path) => {
-                let text = volley::scene::read_text(path).map_err(|e| {
-                    fail(EXIT_INPUT, format!("{}: cannot read: {e}", path.display()))
-                })?;
+                let text = super::read_input(path)?;
                 volley::app::script::parse(&text, &path.display().to_string())
                     .map_err(|e| fail(EXIT_INPUT, e))?
             }

@@ -3,6 +3,7 @@
 pub mod aim;
 pub mod args;
 pub mod display;
+pub mod first_run;
 pub mod frames;
 pub mod headless;
 pub mod pacing;
@@ -58,6 +59,14 @@ pub fn usage_error(e: clap::Error) -> ExitCode {
         .unwrap_or("error: invalid arguments");
     eprintln!("{first} (see `volley --help`)");
     ExitCode::from(EXIT_INPUT)
+}
+
+/// Reads a text file a user gave (a command or input script, a capture, a shard file): any
+/// failure, a missing file or bytes that are not UTF-8 text alike, is bad input (exit 2), as
+/// for a scene or a recording, and names the file.
+pub fn read_input(path: &Path) -> Result<String, Failure> {
+    volley::scene::read_text(path)
+        .map_err(|e| fail(EXIT_INPUT, format!("{}: cannot read: {e}", path.display())))
 }
 
 /// Parses `X,Y,Z`.

@@ -11,7 +11,6 @@ use volley::clock::LoopPolicy;
 use volley::pacing::shard::{self, PacingShard};
 use volley::pacing::sweep::{self, Row, Sweep, SweepDisplay};
 use volley::pacing::{DisplayModel, Subject, read_capture, report};
-use volley::scene;
 
 use super::args::parse_integrator;
 use super::{EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail};
@@ -27,8 +26,8 @@ pub struct PacingArgs {
     #[arg(long, value_delimiter = ',')]
     pub displays: Option<Vec<String>>,
     /// PresentMon, OCAT or CapFrameX capture files to run beside the models (default: the
-    /// shipped PresentMon capture).
-    #[arg(long = "capture", value_name = "FILE.csv")]
+    /// shipped PresentMon capture), comma-separated or the flag repeated.
+    #[arg(long = "capture", value_name = "FILE.csv", value_delimiter = ',')]
     pub captures: Vec<PathBuf>,
     /// The application whose rows a capture keeps (default: the one with the most rows).
     #[arg(long)]
@@ -61,8 +60,9 @@ pub struct PacingArgs {
     /// and write its rows, pacing.shard-I-of-N.json, to the output folder.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
-    /// Merge the shard files of one sweep into its CSV, page and plot.
-    #[arg(long, value_name = "FILE", num_args = 1.., conflicts_with_all = [
+    /// Merge the shard files of one sweep into its CSV, page and plot (space- or
+    /// comma-separated).
+    #[arg(long, value_name = "FILE", num_args = 1.., value_delimiter = ',', conflicts_with_all = [
         "displays", "captures", "application", "no_capture", "rates", "policies",
         "integrators", "subjects", "seconds", "shard",
     ])]
@@ -108,8 +108,7 @@ fn displays(args: &PacingArgs) -> Result<Vec<SweepDisplay>, Failure> {
         files.extend(shipped.into_iter().find(|p| p.is_file()));
     }
     for file in files {
-        let text = scene::read_text(&file)
-            .map_err(|e| fail(EXIT_ENVIRONMENT, format!("{}: {e}", file.display())))?;
+        let text = super::read_input(&file)?;
         let timing = read_capture(
             &text,
             &file.display().to_string(),
@@ -177,8 +176,7 @@ fn merge(files: &[PathBuf]) -> Result<Vec<Row>, Failure> {
     let mut parts = Vec::with_capacity(files.len());
     for path in files {
         let label = path.display().to_string();
-        let text = scene::read_text(path)
-            .map_err(|e| fail(EXIT_INPUT, format!("{label}: cannot read: {e}")))?;
+        let text = super::read_input(path)?;
         let part = PacingShard::from_json(&text, &label).map_err(|e| fail(EXIT_INPUT, e))?;
         parts.push((label, part));
     }

@@ -54,8 +54,9 @@ pub struct StudyArgs {
     /// list) and write its partial result, NAME.shard-I-of-N.json, to the output folder.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
-    /// Merge the partial results of every shard of one study into its report and files.
-    #[arg(long, value_name = "FILE", num_args = 1.., conflicts_with_all = [
+    /// Merge the partial results of every shard of one study into its report and files
+    /// (space- or comma-separated).
+    #[arg(long, value_name = "FILE", num_args = 1.., value_delimiter = ',', conflicts_with_all = [
         "scene", "integrators", "dt", "dt_range", "points", "until", "tolerance", "substeps",
         "windows", "no_timing", "shard",
     ])]
@@ -210,8 +211,7 @@ fn merge(files: &[PathBuf], out: Option<&PathBuf>) -> Result<(), Failure> {
     let mut parts = Vec::with_capacity(files.len());
     for path in files {
         let label = path.display().to_string();
-        let text = volley::scene::read_text(path)
-            .map_err(|e| fail(EXIT_INPUT, format!("{label}: cannot read: {e}")))?;
+        let text = super::read_input(path)?;
         let part = ShardResult::from_json(&text, &label).map_err(|e| fail(EXIT_INPUT, e))?;
         parts.push((label, part));
     }

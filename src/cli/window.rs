@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use volley::app::session::compare_refusals;
-use volley::app::{self, WindowOptions};
+use volley::app::{self, AppError, RunSummary, WindowOptions};
 use volley::scene::{CompareLane, Scene};
 
 use super::args::{Overrides, load_scene, parse_integrator};
@@ -24,8 +24,9 @@ pub struct WindowArgs {
     /// Start in compare mode with these lanes: comma-separated integrator names, each with its
     /// own dt and substeps if wanted as `NAME@DT` or `NAME@DTxSUBSTEPS` (`rk4@0.2,
     /// explicit-euler@0.05x2`), or `default` for explicit-euler,semi-implicit-euler,verlet,rk4.
-    #[arg(long, value_name = "LIST")]
-    pub compare: Option<String>,
+    /// Repeating the flag adds lanes.
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub compare: Option<Vec<String>>,
     /// Compare lanes after the first get the first one's force evaluations per simulated
     /// second (their dt scaled by their cost per step: RK4 at 4 h beside Euler at h).
     #[arg(long)]
@@ -42,9 +43,14 @@ pub struct WindowArgs {
     pub record: Option<PathBuf>,
 }
 
-/// `volley` with no arguments: the window on the seed scene.
+/// `volley` with no arguments: the window on the seed scene, or, where there is no display to
+/// open it on, the same job without a window ([`super::first_run`]), which exits 0.
+/// `volley window` keeps its exit 4 and one line there: it was asked for a window.
 pub fn default_run() -> Result<(), Failure> {
-    run(&WindowArgs {
+    if let Some(why) = no_display() {
+        return super::first_run::run(&why);
+    }
+    let args = WindowArgs {
         scene: "seed".into(),
         overrides: Overrides::default(),
         compare: None,
@@ -52,14 +58,39 @@ pub fn default_run() -> Result<(), Failure> {
         display: DisplayArgs::default(),
         no_watch: false,
         record: None,
-    })
+    };
+    match open(&args)? {
+        Err(AppError::NoDisplay(why)) => super::first_run::run(&why),
+        outcome => finish(&args, outcome),
+    }
 }
 
-/// `--compare`: `NAME`, `NAME@DT` or `NAME@DTxSUBSTEPS`, comma-separated, or `default`.
+/// Why no window can open here, when the environment says so before trying: on the Unix
+/// desktops winit supports, neither `DISPLAY` (X11) nor `WAYLAND_DISPLAY` is set. Elsewhere
+/// (Windows, macOS) a window is assumed possible, and a failure to open one is caught as it
+/// happens.
+fn no_display() -> Option<String> {
+    let unix_desktop = cfg!(all(unix, not(target_os = "macos"), not(target_os = "ios")));
+    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
+    (unix_desktop && !set("DISPLAY") && !set("WAYLAND_DISPLAY"))
+        .then(|| "neither DISPLAY nor WAYLAND_DISPLAY is set".to_string())
+}
+
+/// `--compare`: `NAME`, `NAME@DT` or `NAME@DTxSUBSTEPS`, comma-separated; `default` stands
+/// for the default lanes wherever it appears.
 pub fn parse_compare(list: &str) -> Result<Vec<CompareLane>, Failure> {
-    if list == "default" {
-        return Ok(app::input::DEFAULT_COMPARE.map(CompareLane::of).to_vec());
-    }
+    let default = app::input::DEFAULT_COMPARE.map(|i| i.name()).join(",");
+    let list = list
+        .split(',')
+        .map(|item| {
+            if item.trim() == "default" {
+                default.as_str()
+            } else {
+                item
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(",");
     let lanes = list.split(',').count();
     if lanes > volley::scene::MAX_COMPARE_LANES {
         return Err(fail(
@@ -165,9 +196,22 @@ fn bundled_scenes() -> Vec<(String, PathBuf)> {
 
 /// Opens the window and runs it until it closes.
 pub fn run(args: &WindowArgs) -> Result<(), Failure> {
+    let outcome = open(args)?;
+    finish(args, outcome)
+}
+
+/// Prints what the window left behind, or turns its error into the CLI's.
+fn finish(args: &WindowArgs, outcome: Result<RunSummary, AppError>) -> Result<(), Failure> {
+    let summary = outcome.map_err(window_failure)?;
+    report(&args.display, &summary);
+    Ok(())
+}
+
+/// Checks the arguments and runs the window; the window's own error is returned as it is.
+fn open(args: &WindowArgs) -> Result<Result<RunSummary, AppError>, Failure> {
     let (path, scene) = load_scene(&args.scene, &args.overrides)?;
     let compare = match &args.compare {
-        Some(list) => runnable(parse_compare(list)?, &scene)?,
+        Some(list) => runnable(parse_compare(&list.join(","))?, &scene)?,
         // A saved setup opens in its own compare lanes (the scene file checked them).
         None => scene.compare.clone(),
     };
@@ -179,7 +223,5 @@ pub fn run(args: &WindowArgs) -> Result<(), Failure> {
         record: args.record.clone(),
         ..args.display.options()?
     };
-    let summary = app::run(scene, &path, options).map_err(window_failure)?;
-    report(&args.display, &summary);
-    Ok(())
+    Ok(app::run(scene, &path, options))
 }

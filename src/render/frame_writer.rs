@@ -107,3 +107,53 @@ impl TickObserver for FrameWriter {
         Ok(())
     }
 }
+
+/// Steps each of `worlds` by `ticks` and writes one PNG of `size` pixels to `path`: every world
+/// as a lane of the window's compare mode, with its trail and the closed form's dashed ghost,
+/// framed as the window frames the first world's scene (what `volley` without a display writes).
+pub fn write_picture(
+    gpu: Gpu,
+    worlds: Vec<World>,
+    ticks: u64,
+    size: (u32, u32),
+    path: &Path,
+) -> Result<(), CaptureError> {
+    use crate::sim_loop::SimLoop;
+    let Some(first) = worlds.first() else {
+        return Err(CaptureError("no world to draw".into()));
+    };
+    let bounds = SceneBounds::of_scene(first.scene());
+    let mut lanes = Vec::with_capacity(worlds.len());
+    for world in worlds {
+        let mut history = TickHistory::new(&world, bounds.center());
+        let step = world.scene().timestep;
+        let mut sim = SimLoop::new(world);
+        sim.run_until(
+            ticks,
+            &mut crate::clock::VirtualClock::Steady(step),
+            &mut history,
+        )
+        .map_err(|e| CaptureError(e.to_string()))?;
+        lanes.push((sim.world, history));
+    }
+    let mut renderer = Renderer::new(&gpu, OFFSCREEN_FORMAT);
+    let target = OffscreenTarget::new(&gpu, size, OFFSCREEN_FORMAT);
+    let view = View {
+        camera: OrbitCamera::framing(&bounds, f64::from(size.0) / f64::from(size.1.max(1))),
+        viewport: Viewport::full(size.0, size.1),
+        target_size: size,
+    };
+    let drawn: Vec<Lane> = lanes
+        .iter()
+        .map(|(world, history)| Lane {
+            world,
+            history,
+            at: crate::render::history::DrawAt::interpolated(1.0),
+            colour: integrator_colour(world.integrator()),
+            judder: &[],
+        })
+        .collect();
+    let options = DrawOptions::picture(bounds.center(), bounds.radius());
+    renderer.render(&gpu, target.view(), &drawn, &view, &options);
+    target.read(&gpu)?.save_png(path)
+}

@@ -30,7 +30,7 @@ pub use camera::{OrbitCamera, Viewport};
 pub use capture::{CaptureError, Image, OFFSCREEN_FORMAT, OffscreenTarget};
 pub use draw::{DrawList, DrawOptions, JudderMark, Lane, integrator_colour};
 #[cfg(not(target_arch = "wasm32"))]
-pub use frame_writer::FrameWriter;
+pub use frame_writer::{FrameWriter, write_picture};
 pub use gpu::{Gpu, GpuError};
 pub use history::{DrawAt, TickHistory};
 pub use reference::{BodyError, Reference, References};

@@ -4,8 +4,9 @@
 //! mass and the active force terms are recorded. Its exact state at tick `n` is then
 //! [`crate::exact::closed_form`] over `(n - spawn_tick) h`, an integer number of ticks times the
 //! step, so the error shown is the integrator's alone. The closed form knows no contacts: a
-//! reference ends at the body's first impact (or when a force term is switched), and from then
-//! on the body shows no error and no ghost rather than a meaningless one.
+//! reference ends at the body's first contact ([`ends_reference`]: an impact, coming to rest,
+//! a target hit) or when a force term is switched, and from then on the body shows no error
+//! and no ghost rather than a meaningless one.
 
 use glam::DVec3;
 
@@ -35,6 +36,18 @@ pub enum ReferenceEnd {
         /// The tick the change applied at.
         tick: u64,
     },
+}
+
+/// Whether an event ends its body's reference: every contact does. An impact reflects the
+/// body's momentum and coming to rest removes it, which no contact-free reference follows; a
+/// target hit leaves the path as it was, but it is where the scene's question was answered, and
+/// a target may stand for a body that stops the shot. A closest approach without contact
+/// ([`EventKind::Approach`]) touches nothing.
+pub fn ends_reference(kind: &EventKind) -> bool {
+    matches!(
+        kind,
+        EventKind::Impact { .. } | EventKind::Rest { .. } | EventKind::Hit { .. }
+    )
 }
 
 /// One body's reference.
@@ -130,11 +143,12 @@ impl References {
         }
     }
 
-    /// After a tick: impacts end their bodies' references; new bodies are recorded.
+    /// After a tick: contacts (an impact, coming to rest, a target hit) end their bodies'
+    /// references; new bodies are recorded.
     pub fn after_tick(&mut self, world: &World) {
         self.observe(world);
         for event in world.events() {
-            if let EventKind::Impact { .. } = event.kind
+            if ends_reference(&event.kind)
                 && let Ok(k) = self.list.binary_search_by_key(&event.body, |r| r.id)
                 && self.list[k].end.is_none()
             {

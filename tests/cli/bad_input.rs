@@ -234,3 +234,83 @@ fn help_lists_the_integrator_and_format_names() {
         "{err}"
     );
 }
+
+/// Bytes that are not text (invalid UTF-8 from the first byte, and a NUL) given to every reader
+/// that takes a file: each refuses with exit 2, the code for bad input, in one line naming the
+/// file, as for a scene. A capture once exited 4, the code for the environment.
+#[test]
+fn every_reader_gives_bytes_that_are_not_text_exit_2() {
+    let bytes: Vec<u8> = (0..4096u32)
+        .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8 | 0x80)
+        .collect();
+    let file = |name: &str| {
+        let path = write_scene(name, "");
+        std::fs::write(&path, &bytes).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    let (scene, script, capture) = (file("noise.ron"), file("noise.txt"), file("noise.csv"));
+    let (recording, shard) = (file("noise.vrec"), file("noise.json"));
+    for args in [
+        vec!["headless", &scene],
+        vec!["record", &scene, "-o", "/dev/null"],
+        vec!["aim", &scene],
+        vec!["study", &scene],
+        vec!["headless", "seed", "--commands", &script],
+        vec!["replay", &recording, "--verify"],
+        vec!["pacing", "--capture", &capture, "--displays", "60"],
+        vec!["pacing", "--merge", &shard],
+        vec!["study", "--merge", &shard],
+        vec!["window", "seed", "--script", &script],
+        vec!["window", "seed", "--display", &capture],
+    ] {
+        let (code, _, err) = volley(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains("noise."), "{args:?}: {err}");
+    }
+}
+
+/// Every list flag takes commas, and repeating the flag adds to the list.
+#[test]
+fn list_flags_take_commas_and_repeats() {
+    let missing = |name: &str| {
+        let dir = std::env::temp_dir().join(format!("volley-bad-input-{}", std::process::id()));
+        dir.join(name).to_str().unwrap().to_string()
+    };
+    let (a, b) = (missing("a-missing.csv"), missing("b-missing.csv"));
+    // The second file of a comma list is read (and refused by name): the list was split.
+    let shipped = "assets/captures/presentmon_test_case_4.csv";
+    let (code, _, err) = volley(&["pacing", "--capture", &format!("{shipped},{b}")]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("b-missing.csv") && !err.contains(shipped),
+        "{err}"
+    );
+    let (code, _, err) = volley(&["pacing", "--capture", shipped, "--capture", &a]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("a-missing.csv"), "{err}");
+    for flag in ["--merge"] {
+        for sub in ["pacing", "study"] {
+            let (code, _, err) = volley(&[sub, flag, &format!("{a},{b}")]);
+            assert_eq!(code, 2, "{sub} {flag}: {err}");
+            assert!(
+                err.contains("a-missing.csv") && !err.contains(','),
+                "{sub}: {err}"
+            );
+        }
+    }
+    // --compare: a lane list over two flags, `default` inside a list; too many lanes in all is
+    // one refusal, so both flags were counted.
+    let eight = "rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4";
+    let nine = "rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4,rk4";
+    let (code, _, err) = volley(&["window", "seed", "--compare", eight, "--compare", nine]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("at most 16 lanes, got 17"), "{err}");
+    let (code, _, err) = volley(&[
+        "window",
+        "seed",
+        "--compare",
+        &format!("default,{eight},{nine}"),
+    ]);
+    assert!(err.contains("got 21"), "{code}: {err}");
+}

@@ -13,6 +13,7 @@ mod bad_input;
 mod batch;
 mod determinism;
 mod divergence;
+mod first_run;
 mod headless_frames;
 mod pacing;
 mod replay_cli;

@@ -61,7 +61,7 @@ impl std::fmt::Display for DragTableError {
             }
             DragTableError::InvalidMach { index, mach } => write!(
                 f,
-                "point {index}: expected a finite Mach number >= 0, got {mach}"
+                "point {index} (counted from 0): expected a finite Mach number >= 0, got {mach}"
             ),
             DragTableError::NotIncreasing {
                 index,
@@ -69,12 +69,12 @@ impl std::fmt::Display for DragTableError {
                 previous,
             } => write!(
                 f,
-                "point {index}: Mach {mach} is not above the previous point's {previous}; \
+                "point {index} (counted from 0): Mach {mach} is not above the previous point's {previous}; \
                  expected Mach numbers in increasing order"
             ),
             DragTableError::InvalidCd { index, cd } => write!(
                 f,
-                "point {index}: expected a finite drag coefficient >= 0, got {cd}"
+                "point {index} (counted from 0): expected a finite drag coefficient >= 0, got {cd}"
             ),
         }
     }

@@ -23,6 +23,7 @@ mod builder;
 mod bundled;
 mod error;
 mod raw;
+mod ron_error;
 #[cfg(test)]
 mod tests;
 mod validate;
@@ -399,7 +400,7 @@ pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Scene, SceneE
         file: file.to_string(),
         position: Some((e.span.start.line, e.span.start.col)),
         field: None,
-        message: e.code.to_string(),
+        message: ron_error::describe(&e.code),
     })?;
     validate(raw, text, default_name).map_err(|e| SceneError {
         file: file.to_string(),

@@ -49,7 +49,11 @@ pub struct ThrustCurveError {
 
 impl std::fmt::Display for ThrustCurveError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "point {}: {}", self.index, self.expected)
+        write!(
+            f,
+            "point {} (counted from 0): {}",
+            self.index, self.expected
+        )
     }
 }
 

@@ -128,6 +128,7 @@ impl Scene {
 
 /// One force term as written in a scene file.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub(super) enum ForceTerm {
     Gravity(DVec3),
     ConstantForce(DVec3),
@@ -179,6 +180,7 @@ pub(super) enum ForceTerm {
 /// rail_exit_speed: m/s)` (along the rail until that speed, then along the velocity); vectors
 /// of any length but zero.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub(super) enum RawThrustDirection {
     Fixed(DVec3),
     Velocity {
@@ -239,6 +241,7 @@ pub(super) enum RawCurve {
 /// The air as written: a standard atmosphere (the ground's altitude in m, and optionally its
 /// temperature in K and pressure in Pa) or uniform air.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub(super) enum RawAir {
     Standard {
         #[serde(default)]
@@ -349,6 +352,7 @@ impl ForceTerm {
 
 /// A launch as written in a scene file.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub(super) enum Launch {
     Velocity(DVec3),
     Angles {

@@ -288,12 +288,12 @@ fn bad_mach_drag_values_name_the_field() {
         (
             "MachDrag(curve: Table([(0, 0.3), (0.5, 0.3), (0.5, 0.4)]), bc: 0.2)",
             "forces[1].curve",
-            "point 2",
+            "point 2 (counted from 0)",
         ),
         (
             "MachDrag(curve: Table([(0, 0.3), (1, -0.1)]), bc: 0.2)",
             "forces[1].curve",
-            "point 1",
+            "point 1 (counted from 0)",
         ),
         (
             "MachDrag(curve: G1, bc: 0.2, air: Uniform(temperature: 0, pressure: 1e5))",
@@ -418,21 +418,21 @@ fn bad_spin_and_thrust_values_name_the_field() {
             ", Thrust(curve: [(0, 1), (0.5, 2), (0.5, 0)])",
             0.1,
             "forces[2].curve",
-            "point 2: times must increase",
+            "point 2 (counted from 0): times must increase",
         ),
         (
             spun,
             ", Thrust(curve: [(-0.1, 1), (0.5, 0)])",
             0.1,
             "forces[2].curve",
-            "point 0: time must be",
+            "point 0 (counted from 0): time must be",
         ),
         (
             spun,
             ", Thrust(curve: [(0, 1), (0.5, -2), (1, 0)])",
             0.1,
             "forces[2].curve",
-            "point 1: thrust",
+            "point 1 (counted from 0): thrust",
         ),
         (
             spun,

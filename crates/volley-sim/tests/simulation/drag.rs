@@ -79,20 +79,20 @@ fn bad_tables_are_refused_naming_the_point() {
         ),
         (
             &[(0.0, 0.2), (1.0, 0.4), (0.9, 0.3)],
-            "drag table: point 2: Mach 0.9 is not above the previous point's 1; expected Mach \
+            "drag table: point 2 (counted from 0): Mach 0.9 is not above the previous point's 1; expected Mach \
              numbers in increasing order",
         ),
         (
             &[(0.0, 0.2), (1.0, -0.4)],
-            "drag table: point 1: expected a finite drag coefficient >= 0, got -0.4",
+            "drag table: point 1 (counted from 0): expected a finite drag coefficient >= 0, got -0.4",
         ),
         (
             &[(f64::NAN, 0.2), (1.0, 0.4)],
-            "drag table: point 0: expected a finite Mach number >= 0, got NaN",
+            "drag table: point 0 (counted from 0): expected a finite Mach number >= 0, got NaN",
         ),
         (
             &[(0.0, 0.2), (1.0, f64::INFINITY)],
-            "drag table: point 1: expected a finite drag coefficient >= 0, got inf",
+            "drag table: point 1 (counted from 0): expected a finite drag coefficient >= 0, got inf",
         ),
     ];
     for (points, message) in cases {
