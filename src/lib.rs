@@ -3,8 +3,8 @@
 //! The sandbox around the simulation: the window ([`app`]), the wgpu renderer ([`render`]) and
 //! the study's work-precision plot ([`plot`]). Everything that steps, records and measures lives
 //! in the `volley-sim` crate, which has no GPU, window, plotting or CLI crate in its dependency
-//! tree; its names are re-exported here, so `volley::world::World` and `volley_sim::world::World`
-//! are one type.
+//! tree; its names are re-exported here, so `volley::World` and `volley_sim::World` are one type
+//! (and `volley::world::World` is `volley_sim::internals::world::World`).
 
 // The simulation, named rather than globbed: its game-facing surface as the crate root has it,
 // and the (hidden) modules the window, the CLI, the tests and the benches reach into.

@@ -15,6 +15,7 @@ mod determinism;
 mod divergence;
 mod first_run;
 mod headless_frames;
+mod manual;
 mod pacing;
 mod replay_cli;
 mod simd;

@@ -37,7 +37,8 @@ pub struct Mass {
 /// What is fixed when a body is launched (spawned): the clock, its mass then, and its spin.
 ///
 /// Not state that a step changes, so not in the state hash: every value follows from the scene
-/// and the commands (docs/physics.md, "Spin and thrust").
+/// and the commands (docs/physics.md, "Spin: Magnus lift, spin drag and decay" and "Thrust: a motor
+/// with its mass falling").
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Launch {
     /// The world's time at launch (s): a motor's clock starts here, a spin decays from here.

@@ -7,8 +7,10 @@
 //! per body, so such scenes pay for nothing else; the choice is made once per tick, never per body.
 //! Gravity with linear drag (and optionally a constant force) likewise gets [`DragField`].
 //!
-//! Every term is conservative or dissipative, so a body's mechanical energy
-//! ([`ForceModel::energy`]) never grows between commands; the divergence guard relies on that.
+//! Every built-in term but the motor is conservative or dissipative, so without [`Thrust`] or a
+//! game's own term a body's mechanical energy ([`ForceModel::energy`]) never grows between
+//! commands; the divergence guard relies on that, and checks only finiteness while either is
+//! declared ([`Forces::adds_energy`]).
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};

@@ -319,8 +319,10 @@ pub struct Volley {
 #[serde(deny_unknown_fields, default)]
 pub struct Guard {
     /// A body whose energy exceeds its start energy by more than `(energy_factor - 1)` times its
-    /// start energy scale stops the run. Every force term conserves or dissipates energy, so only
-    /// a numerical instability can trip it. Default 10 (the reference's "10x its start").
+    /// start energy scale stops the run. Every built-in term but the motor conserves or
+    /// dissipates energy, so only a numerical instability can trip it; with a motor or a game's
+    /// own term (which may add energy) only finiteness is checked. Default 10 (the reference's
+    /// "10x its start").
     pub energy_factor: f64,
     /// Check energy every this many ticks; 0 turns the energy check off (the non-finite check
     /// always runs). Default 1.

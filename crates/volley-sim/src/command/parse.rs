@@ -84,7 +84,7 @@ impl std::fmt::Display for CommandParseError {
             ),
             CommandParseError::UnknownSpawnKey(key) => write!(
                 f,
-                "spawn: unknown key `{key}`, expected mass, radius, position or velocity"
+                "spawn: unknown key `{key}`, expected mass, radius, position, velocity or spin"
             ),
             CommandParseError::InvalidNumber { key, value } => {
                 write!(f, "{key}: expected a finite number, got `{value}`")

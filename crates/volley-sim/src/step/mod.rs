@@ -6,8 +6,10 @@
 //! dispatch), `batch` (many ticks block by block, with undo) and `guard` (the energy guard).
 //!
 //! ```text
-//! step:  integrate (declared forces only) -> contacts (inline, only near a surface or target)
-//!        -> non-finite check (inline) -> energy guard (every `guard.every` ticks)
+//! step:  for each substep: integrate (declared forces only) -> contacts (inline, only near a
+//!        surface or target) -> non-finite check (inline) -> burn (a declared motor only: each
+//!        body's mass falls to what its motor has left)
+//!        then: energy guard (every `guard.every` ticks)
 //! ```
 //!
 //! Commands are applied by [`crate::World::apply`] before a step, at the tick boundary; hashing

@@ -130,3 +130,81 @@ fn field_and_type_errors_name_no_rust_type() {
         assert!(!text.contains("Raw"), "{part}: {text}");
     }
 }
+
+/// A scene with an unknown field `zzz` inside each struct of the format (and each struct-like
+/// variant), named as the error names it.
+const STRUCT_PLACES: &[&str] = &[
+    "zzz: 1",
+    "bodies: [(mass: 1, position: (0, 0, 1), zzz: 1)]",
+    "ground: (restitution: 1, zzz: 1)",
+    "walls: [(point: (0, 0, 0), normal: (1, 0, 0), thickness: 1, zzz: 1)]",
+    "targets: [(center: (0, 0, 0), radius: 1, zzz: 1)]",
+    "launcher: (position: (0, 0, 0), speed: 1, elevation_deg: 1, azimuth_deg: 0, zzz: 1)",
+    "volley: (count: 1, zzz: 1)",
+    "guard: (zzz: 1)",
+    "compare: [(integrator: Rk4, zzz: 1)]",
+    "forces: [Spring(anchor: (0, 0, 0), stiffness: 1, zzz: 1)]",
+    "forces: [PointMass(center: (0, 0, 0), mu: 1, zzz: 1)]",
+    "forces: [MachDrag(curve: G1, zzz: 1)]",
+    "forces: [MachDrag(curve: G1, bc: 0.3, wind: (velocity: (0, 0, 0), zzz: 1))]",
+    "forces: [MachDrag(curve: G1, bc: 0.3, spin: (zzz: 1))]",
+    "forces: [MachDrag(curve: G1, bc: 0.3, air: Standard(zzz: 1))]",
+    "forces: [MachDrag(curve: G1, bc: 0.3, air: Uniform(zzz: 1))]",
+    "forces: [Custom(name: \"a\", version: 1, zzz: 1)]",
+    "forces: [Thrust(curve: [(0, 1), (1, 0)], zzz: 1)]",
+    "forces: [Thrust(curve: [(0, 1), (1, 0)], direction: Velocity(zzz: 1))]",
+    "bodies: [(mass: 1, position: (0, 0, 1), launch: Angles(zzz: 1))]",
+    "bodies: [(mass: 1, position: (0, 0, 1), launch: Aim(zzz: 1))]",
+];
+
+/// Every keyword the scene reader accepts: each enum's variants and each struct's fields, as
+/// serde lists them when one is misspelt.
+fn keywords() -> Vec<&'static str> {
+    let options =
+        ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let mut words = Vec::new();
+    for (rust, part) in MISSPELT {
+        if let Err(e) = options.from_str::<RawScene>(&scene_with(part, rust))
+            && let ron::Error::NoSuchEnumVariant { expected, .. } = e.code
+        {
+            words.extend_from_slice(expected);
+        }
+    }
+    for part in STRUCT_PLACES {
+        match options.from_str::<RawScene>(&scene_with(part, "-")) {
+            Err(e) => match e.code {
+                ron::Error::NoSuchStructField { expected, .. } => words.extend_from_slice(expected),
+                other => panic!("{part}: {other:?}"),
+            },
+            Ok(_) => panic!("{part}: the unknown field was accepted"),
+        }
+    }
+    words.sort_unstable();
+    words.dedup();
+    words
+}
+
+/// docs/scenes.md is the manual of the format: every keyword the reader accepts is in it, as a
+/// word of its own. (Checked by hand: deleting `ForestRuth` or `rail_exit_speed` from the page
+/// fails this test, naming the word.)
+#[test]
+fn the_manual_names_every_keyword_the_scene_reader_accepts() {
+    let page =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/scenes.md"))
+            .unwrap();
+    let is_word = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let on_page = |word: &str| {
+        page.match_indices(word).any(|(i, _)| {
+            let before = page[..i].chars().next_back().is_none_or(|c| !is_word(c));
+            let after = page[i + word.len()..]
+                .chars()
+                .next()
+                .is_none_or(|c| !is_word(c));
+            before && after
+        })
+    };
+    let words = keywords();
+    assert!(words.len() > 80, "{words:?}");
+    let missing: Vec<&str> = words.into_iter().filter(|w| !on_page(w)).collect();
+    assert!(missing.is_empty(), "docs/scenes.md never names {missing:?}");
+}
