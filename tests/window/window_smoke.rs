@@ -118,6 +118,34 @@ pub(crate) fn under_xvfb_paced(
     Some(output)
 }
 
+/// `volley ARGS` at window size `size` under Xvfb at a steady 60 Hz, run in folder `dir` (where
+/// the window writes its recordings and saved plots); `None` (after reporting why) where no
+/// window can open here.
+pub(crate) fn under_xvfb_in(
+    test: &str,
+    dir: &std::path::Path,
+    args: &[&str],
+    size: &str,
+) -> Option<std::process::Output> {
+    if !has("xvfb-run") {
+        support::unavailable(test, "xvfb-run is not installed (apt-get install xvfb)");
+        return None;
+    }
+    let output = Command::new("timeout")
+        .args(["120", "xvfb-run", "-a", "-s", "-screen 0 1600x1200x24"])
+        .arg(env!("CARGO_BIN_EXE_volley"))
+        .args(args)
+        .args(["--size", size, "--frame-rate", "60"])
+        .current_dir(dir)
+        .output()
+        .expect("timeout and xvfb-run start");
+    if output.status.code() == Some(4) {
+        support::unavailable(test, String::from_utf8_lossy(&output.stderr).trim());
+        return None;
+    }
+    Some(output)
+}
+
 /// `volley ARGS` at window size `size` under Xvfb, which must exit 0: its stdout; `None` (after
 /// reporting why) where no window can open here.
 pub(crate) fn window_stdout(test: &str, args: &[&str], size: &str) -> Option<String> {
