@@ -20,6 +20,10 @@ use crate::world::{BodyId, World};
 pub const GHOST_SAMPLES: usize = 128;
 /// Longest ghost trajectory drawn (s of sim time).
 pub const GHOST_HORIZON_S: f64 = 120.0;
+/// Most points one drawn trajectory takes ([`Reference::trajectory`]).
+pub const MAX_TRAJECTORY_POINTS: usize = 4096;
+/// Most halvings of one of the even intervals ([`Reference::trajectory`]): 1/256 of it.
+const MAX_REFINE_DEPTH: u32 = 8;
 
 /// Why a reference stopped applying.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -256,15 +260,28 @@ impl Reference {
         }
     }
 
-    /// Points along the exact trajectory from spawn, `GHOST_SAMPLES` of them over `horizon`
-    /// seconds (cut at the reference's end and where the body's centre would pass below
-    /// `floor`), into `out`.
-    pub fn trajectory(&self, horizon: f64, dt: f64, floor: Option<f64>, out: &mut Vec<DVec3>) {
+    /// Points along the exact trajectory from spawn over `horizon` seconds (cut at the
+    /// reference's end and where the body's centre would pass below `floor`), each with its
+    /// time after spawn (s), into `out`:
+    /// `GHOST_SAMPLES` evenly spaced, each interval then halved while the path's midpoint is more
+    /// than `tolerance` (m) from the chord's, so a drawn chord stays within `tolerance` of the
+    /// path (an orbit's 62.8 s in 128 even samples cut across the circle by metres). At most
+    /// [`MAX_TRAJECTORY_POINTS`] points.
+    pub fn trajectory(
+        &self,
+        horizon: f64,
+        dt: f64,
+        floor: Option<f64>,
+        tolerance: f64,
+        out: &mut Vec<(f64, DVec3)>,
+    ) {
         out.clear();
         let horizon = self
             .ends_after(dt)
             .unwrap_or(horizon)
+            .min(self.period().unwrap_or(f64::INFINITY))
             .clamp(0.0, GHOST_HORIZON_S);
+        let mut previous: Option<(f64, DVec3)> = None;
         for k in 0..GHOST_SAMPLES {
             let t = horizon * k as f64 / (GHOST_SAMPLES - 1) as f64;
             let Some(s) = self.exact_at(t) else {
@@ -273,7 +290,69 @@ impl Reference {
             if floor.is_some_and(|z| s.p.z < z) && k > 0 {
                 return;
             }
-            out.push(s.p);
+            if let Some(a) = previous {
+                self.refine(a, (t, s.p), tolerance, 0, out);
+            }
+            out.push((t, s.p));
+            previous = Some((t, s.p));
         }
+    }
+
+    /// The period of the motion where it repeats exactly, so a path drawn longer would only
+    /// retrace itself (and even samples over many periods would alias, their chords cutting
+    /// across it): a bound orbit of a lone point mass (Kepler's period from the energy), or an
+    /// undamped zero-rest-length spring with at most uniform forces beside it (`2 pi / w`,
+    /// `w^2 = k / m`: the oscillation about the shifted equilibrium). `None` otherwise.
+    pub fn period(&self) -> Option<f64> {
+        use crate::forces::ForceModel;
+        use std::f64::consts::TAU;
+        let f = &self.forces;
+        if let Some(pm) = f.lone_point_mass() {
+            let v = self.state.mv / self.mass;
+            let r = (self.state.p - pm.center).length();
+            let energy = 0.5 * v.length_squared() - pm.mu / r;
+            if !(energy < 0.0 && r > 0.0) {
+                return None;
+            }
+            let a = -pm.mu / (2.0 * energy);
+            return Some(TAU * (a * a * a / pm.mu).sqrt());
+        }
+        let spring = f.spring?;
+        let uniform_only = f.linear_drag.is_none()
+            && f.quadratic_drag.is_none()
+            && f.point_mass.is_none()
+            && f.mach_drag.is_none()
+            && f.custom.is_none()
+            && f.thrust.is_none();
+        (uniform_only
+            && spring.rest_length == 0.0
+            && spring.damping == 0.0
+            && spring.stiffness > 0.0)
+            .then(|| TAU / (spring.stiffness / self.mass).sqrt())
+    }
+
+    /// The points strictly between `a` and `b` (time, position) that keep the chords within
+    /// `tolerance` of the path, in time order.
+    fn refine(
+        &self,
+        a: (f64, DVec3),
+        b: (f64, DVec3),
+        tolerance: f64,
+        depth: u32,
+        out: &mut Vec<(f64, DVec3)>,
+    ) {
+        if depth >= MAX_REFINE_DEPTH || out.len() + 2 >= MAX_TRAJECTORY_POINTS {
+            return;
+        }
+        let t = 0.5 * (a.0 + b.0);
+        let Some(mid) = self.exact_at(t) else {
+            return;
+        };
+        if (mid.p - 0.5 * (a.1 + b.1)).length() <= tolerance {
+            return;
+        }
+        self.refine(a, (t, mid.p), tolerance, depth + 1, out);
+        out.push((t, mid.p));
+        self.refine((t, mid.p), b, tolerance, depth + 1, out);
     }
 }

@@ -9,6 +9,7 @@ mod replay_support;
 
 mod render_golden;
 mod render_history;
+mod render_paths;
 mod window_aim;
 mod window_compare;
 mod window_pacing;

@@ -322,7 +322,11 @@ fn on_the_rifle_the_plotted_error_ends_at_the_landing_and_the_work_precision_poi
     // Up to the landing: every sample below 3e-5 m (above).
     assert!(buckets.iter().all(|b| b.max < 3e-5), "{buckets:?}");
     // Nothing against the ended reference: the last sample is the tick before the landing.
-    assert_eq!(buckets.last().unwrap().tick, tick - 1, "landing tick {tick}");
+    assert_eq!(
+        buckets.last().unwrap().tick,
+        tick - 1,
+        "landing tick {tick}"
+    );
     let largest = series.error_max.max().unwrap();
     let (_, error) = volley::app::panel::plots::work_precision(lane).unwrap();
     assert_eq!(error, largest);
@@ -353,11 +357,19 @@ fn the_real_window_saves_the_rifles_plots_ending_at_the_landing() {
     let Some(out) = crate::window_smoke::under_xvfb_in(test, &dir, &args, "1280x800") else {
         return;
     };
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     // The window's working folder: it writes plots-SCENE-tickN.csv there.
     let csv = dir.join("plots-rifle-tick150.csv");
     let text = std::fs::read_to_string(&csv).unwrap();
-    let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
     let errors: Vec<(u64, f64)> = rows
         .iter()
         .filter(|r| r[0] == "rk4" && r[1] == "error_max")
