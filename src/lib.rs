@@ -20,7 +20,7 @@ pub use volley_sim::{
     MachDrag, ObserverError, PointMass, RealClock, RecordOptions, Recorder, Recording, Replay,
     Scene, SceneBuilder, SceneError, ScriptError, Shot, SimLoop, Spring, Stamped, Surface, Target,
     TickObserver, Timeline, VirtualClock, Volley, Wall, World, bundled_scene, load_scene,
-    parse_scene, parse_script, solve_aim, state_hash,
+    parse_scene, parse_scene_with, parse_script, solve_aim, state_hash,
 };
 
 /// The one line for a scene argument that names neither a file nor a bundled scene: the

@@ -322,7 +322,7 @@ impl Reference {
             && f.quadratic_drag.is_none()
             && f.point_mass.is_none()
             && f.mach_drag.is_none()
-            && f.custom.is_none()
+            && f.custom.is_empty()
             && f.thrust.is_none();
         (uniform_only
             && spring.rest_length == 0.0

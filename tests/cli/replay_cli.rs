@@ -206,8 +206,7 @@ fn a_recording_killed_mid_run_opens_truncated_and_verifies() {
     let _ = std::fs::remove_file(&file);
 }
 
-/// A game's own force term, registered only in this test process: the `volley` binary does not
-/// have it.
+/// A game's own force term, which only this test process has: the `volley` binary does not.
 #[derive(Debug)]
 struct GamePush;
 
@@ -218,20 +217,21 @@ impl volley::forces::ForceTerm for GamePush {
     fn version(&self) -> u32 {
         3
     }
-    fn force(&self, t: f64, _p: glam::DVec3, _v: glam::DVec3, m: f64) -> glam::DVec3 {
-        glam::DVec3::new(m * t, 0.0, 0.0)
+    fn force(&self, i: &volley::forces::ForceInput) -> glam::DVec3 {
+        glam::DVec3::new(i.m * i.t, 0.0, 0.0)
     }
 }
 
 #[test]
 fn a_recording_with_a_games_own_term_names_it_and_is_refused_without_it() {
-    volley::forces::register(std::sync::Arc::new(GamePush));
-    let scene = volley::parse_scene(
+    let terms = volley::forces::ForceTerms::new().with(GamePush);
+    let scene = volley::parse_scene_with(
         "Scene(dt: 0.01, integrator: Rk4, forces: [Gravity((0, 0, -9.81)), \
          Custom(name: \"test-game/push\", version: 3)], \
          bodies: [(mass: 1, position: (0, 0, 5), launch: Velocity((1, 0, 2)))])",
         "game.ron",
         "game",
+        &terms,
     )
     .unwrap();
     let file = temp("game-term.vrec");
@@ -241,7 +241,9 @@ fn a_recording_with_a_games_own_term_names_it_and_is_refused_without_it() {
     let err = text(&out.stderr);
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(
-        err.contains("custom force term `test-game/push` (version 3) is not registered"),
+        err.contains(
+            "custom force term `test-game/push` (version 3) is not in this program's terms"
+        ),
         "{err}"
     );
     let _ = std::fs::remove_file(&file);

@@ -1,7 +1,7 @@
 //! A game's own force term: an arrow whose drag curve is the game's, not one of Volley's.
 //!
-//! The game implements [`ForceTerm`], registers it, and names it in a scene like any built-in
-//! term. Volley steps it with the scene's integrator, at each stage's own time, and a recording
+//! The game implements [`ForceTerm`], passes it to Volley in its [`ForceTerms`], and names it
+//! in a scene like any built-in term. Volley steps it with the scene's integrator, at each stage's own time, and a recording
 //! of the run names it (`Custom(name: "my-game/arrow-drag", version: 1)`), so a replay without
 //! this game's code is refused instead of drifting.
 //!
@@ -9,11 +9,9 @@
 //! cargo run -p volley-sim --example custom_drag
 //! ```
 
-use std::sync::Arc;
-
 use glam::DVec3;
-use volley_sim::{EventKind, Integrator, World, parse_scene, state_hash};
-use volley_sim::{ForceTerm, register_force_term};
+use volley_sim::{EventKind, Integrator, World, parse_scene_with, state_hash};
+use volley_sim::{ForceInput, ForceTerm, ForceTerms};
 
 /// The game's arrow: drag `F = -(rho / 2) Cd(|v|) A |v| v` with its own curve, a coefficient that
 /// rises as the arrow slows and starts to yaw (a made-up fit a game might tune by eye), and
@@ -38,17 +36,17 @@ impl ForceTerm for ArrowDrag {
     fn version(&self) -> u32 {
         1
     }
-    fn force(&self, _t: f64, _p: DVec3, v: DVec3, _m: f64) -> DVec3 {
-        let speed = v.length();
+    fn force(&self, i: &ForceInput) -> DVec3 {
+        let speed = i.v.length();
         let rho = 1.225;
-        -(0.5 * rho * Self::cd(speed) * self.area * speed) * v
+        -(0.5 * rho * Self::cd(speed) * self.area * speed) * i.v
     }
 }
 
 fn main() {
-    register_force_term(Arc::new(ArrowDrag { area: 5.0e-5 }));
+    let terms = ForceTerms::new().with(ArrowDrag { area: 5.0e-5 });
     for integrator in [Integrator::SemiImplicitEuler, Integrator::Rk4] {
-        let scene = parse_scene(
+        let scene = parse_scene_with(
             &format!(
                 "Scene(dt: 0.016666667, integrator: {integrator:?}, duration: 10,
                    forces: [Gravity((0, 0, -9.81)),
@@ -59,6 +57,7 @@ fn main() {
             ),
             "arrow.ron",
             "arrow",
+            &terms,
         )
         .expect("the arrow's scene parses");
         let mut world = World::new(&scene);
@@ -81,10 +80,11 @@ fn main() {
         }
     }
     println!("the scene, as a saved setup names the term:");
-    let text = parse_scene(
+    let text = parse_scene_with(
         "Scene(dt: 0.01, integrator: Rk4, forces: [Custom(name: \"my-game/arrow-drag\", version: 1)])",
         "arrow.ron",
         "arrow",
+        &terms,
     )
     .expect("parses")
     .to_ron();

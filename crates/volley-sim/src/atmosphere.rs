@@ -143,8 +143,8 @@ impl Atmosphere {
 /// once so a force evaluation reads two cubics instead of a power and an exponential.
 ///
 /// Heights are the scene's z; `ground` is the altitude above sea level of z = 0. The nodes are
-/// every [`COLUMN_STEP`] m of geopotential altitude, covering scene heights from
-/// [`COLUMN_BOTTOM`] to [`COLUMN_TOP`], so every layer boundary (11, 20, 32 and 47 km) is a
+/// every `COLUMN_STEP` m of geopotential altitude, covering scene heights from
+/// `COLUMN_BOTTOM` to `COLUMN_TOP`, so every layer boundary (11, 20, 32 and 47 km) is a
 /// node; each holds the exact values and their slopes on both sides. Between two nodes runs
 /// the cubic Hermite through both, inside one layer where the values are smooth: its error is
 /// below `h^4 / 384` times the fourth derivative, about 1e-13 relative (the tests check 1e-9

@@ -75,12 +75,6 @@ impl Mass {
 }
 
 impl BodyState {
-    /// Velocity V = mV / m (m/s), as the integrators form it.
-    #[inline(always)]
-    pub fn velocity(&self, w: Mass) -> DVec3 {
-        self.mv * w.inv
-    }
-
     /// Whether every component is finite.
     #[inline(always)]
     pub fn is_finite(&self) -> bool {
@@ -161,7 +155,7 @@ impl Vec3s {
 
 /// All bodies, structure of arrays, in id order.
 ///
-/// The f64 columns are listed once, in [`COLUMNS`] (names) and [`Bodies::column`] (fields):
+/// The f64 columns are listed once, in `COLUMNS` (names) and [`Bodies::column`] (fields):
 /// the state hash, the keyframe codec and the replay's field diff all go through that list, so
 /// a new per-body field is a field here, its name and arm there, and its value in
 /// `Bodies::push` (docs/contributing.md). A world's
@@ -192,12 +186,12 @@ pub struct Bodies {
     pub spin: Vec3s,
 }
 
-/// One f64 column of [`Bodies`]: its name in reports and its place in [`COLUMNS`].
+/// One f64 column of [`Bodies`]: its name in reports and its place in `COLUMNS`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Column {
     /// The name the replay's field diff prints (`p.x`, `mV.z`, `mass`).
     pub name: &'static str,
-    /// Its index in [`COLUMNS`], which [`Bodies::column`] maps to the field.
+    /// Its index in `COLUMNS`, which [`Bodies::column`] maps to the field.
     pub index: usize,
 }
 
@@ -249,10 +243,10 @@ pub const COLUMNS: [Column; 14] = {
     out
 };
 
-/// How many of [`COLUMNS`], from the first, the state hash covers.
+/// How many of `COLUMNS`, from the first, the state hash covers.
 pub const HASHED_COLUMNS: usize = 8;
 
-/// Where the [`Launch`] columns sit in [`COLUMNS`]: the last five.
+/// Where the [`Launch`] columns sit in `COLUMNS`: the last five.
 pub const LAUNCH_COLUMNS: std::ops::Range<usize> = 9..14;
 
 impl Bodies {
@@ -314,7 +308,7 @@ impl Bodies {
 
     /// Mass, reciprocal and launch of the body at storage index `i`, as the step forms them.
     #[inline]
-    pub fn mass_of(&self, i: usize) -> Mass {
+    pub(crate) fn mass_of(&self, i: usize) -> Mass {
         Mass {
             m: self.mass[i],
             inv: self.inv_mass[i],
@@ -338,7 +332,7 @@ impl Bodies {
     }
 
     /// Appends a body with momentum `mass * velocity` and no energy bound yet (infinite): one
-    /// value per entry of [`COLUMNS`], in its order.
+    /// value per entry of `COLUMNS`, in its order.
     pub(crate) fn push(
         &mut self,
         id: BodyId,
@@ -396,7 +390,7 @@ impl Bodies {
         self.inv_mass.extend(self.mass.iter().map(|m| 1.0 / m));
     }
 
-    /// Column `k` of [`COLUMNS`]. With a constant `k` (the hash's unrolled loop) this is a
+    /// Column `k` of `COLUMNS`. With a constant `k` (the hash's unrolled loop) this is a
     /// plain field access.
     #[inline(always)]
     pub fn column(&self, k: usize) -> &Vec<f64> {
@@ -419,7 +413,7 @@ impl Bodies {
         }
     }
 
-    /// Column `k` of [`COLUMNS`], to write.
+    /// Column `k` of `COLUMNS`, to write.
     #[inline(always)]
     pub fn column_mut(&mut self, k: usize) -> &mut Vec<f64> {
         match k {

@@ -143,19 +143,19 @@ impl DragTable {
         })
     }
 
-    /// The standard G1 drag function ([`standard::G1`]).
+    /// The standard G1 drag function (`standard::G1`).
     pub fn g1() -> &'static DragTable {
         static G1: OnceLock<DragTable> = OnceLock::new();
         G1.get_or_init(|| DragTable::new(&standard::G1).expect("the G1 table is a valid table"))
     }
 
-    /// The standard G7 drag function ([`standard::G7`]).
+    /// The standard G7 drag function (`standard::G7`).
     pub fn g7() -> &'static DragTable {
         static G7: OnceLock<DragTable> = OnceLock::new();
         G7.get_or_init(|| DragTable::new(&standard::G7).expect("the G7 table is a valid table"))
     }
 
-    /// The GS sphere drag function ([`standard::SPHERE`]).
+    /// The GS sphere drag function (`standard::SPHERE`).
     pub fn sphere() -> &'static DragTable {
         static SPHERE: OnceLock<DragTable> = OnceLock::new();
         SPHERE.get_or_init(|| {

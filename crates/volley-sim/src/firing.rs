@@ -238,7 +238,7 @@ pub fn solve_discrete(range: &Range, mode: Mode) -> Result<Vec<Shot>, FiringErro
         || forces.spring.is_some()
         || forces.point_mass.is_some()
         || forces.mach_drag.is_some()
-        || forces.custom.is_some()
+        || !forces.custom.is_empty()
     {
         return Err(FiringError::Invalid(
             "the discrete closed form covers gravity and constant forces only".into(),

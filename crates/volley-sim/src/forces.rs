@@ -8,7 +8,7 @@
 //! Gravity with linear drag (and optionally a constant force) likewise gets [`DragField`].
 //!
 //! Every built-in term but the motor is conservative or dissipative, so without [`Thrust`] or a
-//! game's own term a body's mechanical energy ([`ForceModel::energy`]) never grows between
+//! game's own term a body's mechanical energy (`ForceModel::energy`) never grows between
 //! commands; the divergence guard relies on that, and checks only finiteness while either is
 //! declared ([`Forces::adds_energy`]).
 
@@ -23,7 +23,7 @@ mod kind;
 mod mach_drag;
 mod thrust;
 
-pub use custom::{CustomForce, CustomForceError, ForceTerm, register, resolve};
+pub use custom::{CustomForce, CustomForceError, ForceInput, ForceTerm, ForceTerms, Reads};
 pub use fast_path::{ConstantField, DragField};
 pub use kind::ForceKind;
 pub use mach_drag::{
@@ -127,7 +127,7 @@ pub struct PointMass {
     pub mu: f64,
 }
 
-/// The kinds that can add energy ([`Forces::potential`]), in the order [`ForceModel::energy`]
+/// The kinds that can add energy ([`Forces::potential`]), in the order `ForceModel::energy`
 /// sums them.
 const ENERGY_KINDS: [ForceKind; 5] = [
     ForceKind::Gravity,
@@ -157,8 +157,9 @@ pub struct Forces {
     pub point_mass: Option<PointMass>,
     /// Drag against a Mach-dependent curve, in a standard or uniform atmosphere and the wind.
     pub mach_drag: Option<MachDrag>,
-    /// A game's own term ([`ForceTerm`]).
-    pub custom: Option<CustomForce>,
+    /// A game's own terms ([`ForceTerm`]), evaluated in this order after the built-in terms
+    /// (but a motor's thrust).
+    pub custom: Vec<CustomForce>,
     /// A motor, added last; with it every force is evaluated at the mass the motor has left
     /// ([`Thrust`] has how momentum and mass change together).
     pub thrust: Option<Thrust>,
@@ -175,7 +176,7 @@ impl Forces {
             ForceKind::Spring => self.spring.is_some(),
             ForceKind::PointMass => self.point_mass.is_some(),
             ForceKind::MachDrag => self.mach_drag.is_some(),
-            ForceKind::Custom => self.custom.is_some(),
+            ForceKind::Custom => !self.custom.is_empty(),
             ForceKind::Thrust => self.thrust.is_some(),
         }
     }
@@ -195,7 +196,7 @@ impl Forces {
             ForceKind::Spring => self.spring = None,
             ForceKind::PointMass => self.point_mass = None,
             ForceKind::MachDrag => self.mach_drag = None,
-            ForceKind::Custom => self.custom = None,
+            ForceKind::Custom => self.custom.clear(),
             ForceKind::Thrust => self.thrust = None,
         }
         self
@@ -210,14 +211,14 @@ impl Forces {
     }
 
     /// The same forces as a [`ConstantField`], if gravity and a constant force are all there is.
-    pub fn constant_field(&self) -> Option<ConstantField> {
+    pub(crate) fn constant_field(&self) -> Option<ConstantField> {
         // Direct field tests rather than `kinds()`: this runs every tick.
         let only_constant = self.linear_drag.is_none()
             && self.quadratic_drag.is_none()
             && self.spring.is_none()
             && self.point_mass.is_none()
             && self.mach_drag.is_none()
-            && self.custom.is_none()
+            && self.custom.is_empty()
             && self.thrust.is_none();
         only_constant.then(|| ConstantField {
             gravity: self.gravity.unwrap_or(DVec3::ZERO),
@@ -263,7 +264,7 @@ impl Forces {
     /// moving at `v`: its potential, or with wind the Mach drag's change to the kinetic energy
     /// in the air's frame (drag only ever takes energy away there; exact for a uniform wind
     /// with gravity, and with a profile the frame at the body's height). `None` where the term
-    /// is undeclared or adds none. What [`ForceModel::energy`] sums and the guard's energy
+    /// is undeclared or adds none. What `ForceModel::energy` sums and the guard's energy
     /// scale takes term by term.
     #[inline]
     pub fn potential(&self, kind: ForceKind, p: DVec3, v: DVec3, m: f64) -> Option<f64> {
@@ -298,7 +299,7 @@ impl Forces {
         if let Some(d) = self.spun_drag() {
             f += d.spun_force(t, p, v, w);
         }
-        if let Some(c) = &self.custom {
+        for c in &self.custom {
             f += c.force(t, p, v, w);
         }
         f
@@ -314,21 +315,21 @@ impl Forces {
     /// guard checks only that the state stays finite.
     #[inline]
     pub fn adds_energy(&self) -> bool {
-        self.custom.is_some() || self.thrust.is_some()
+        !self.custom.is_empty() || self.thrust.is_some()
     }
 
     /// Whether a declared term reads the clock or a body's launch (a game's own, a spin, a
     /// motor): a derivative of the state alone does not describe them.
     #[inline]
     pub fn timed(&self) -> bool {
-        self.custom.is_some() || self.reads_launch()
+        !self.custom.is_empty() || self.reads_launch()
     }
 
     /// Whether no declared term reads the clock or the launch: then [`ForceModel::force`] is
     /// the whole force, and the general model's evaluation is what it was before such terms.
     #[inline(always)]
     fn untimed(&self) -> bool {
-        self.custom.is_none()
+        self.custom.is_empty()
             && self.thrust.is_none()
             && self.mach_drag.as_ref().is_none_or(|d| d.spin.is_none())
     }
@@ -358,7 +359,7 @@ impl Forces {
     pub fn reads_launch(&self) -> bool {
         self.thrust.is_some()
             || self.spun_drag().is_some()
-            || self.custom.as_ref().is_some_and(|c| c.0.reads_launch())
+            || self.custom.iter().any(|c| c.reads().launch)
     }
 
     /// `part(t, w)`, the force on a body of mass `w.m`, or with a motor declared that force
@@ -443,10 +444,7 @@ impl ForceModel for Forces {
                 .thrust
                 .as_ref()
                 .is_some_and(|t| matches!(t.direction, ThrustDirection::Velocity { .. }))
-            || self
-                .custom
-                .as_ref()
-                .is_some_and(|c| c.0.velocity_dependent())
+            || self.custom.iter().any(|c| c.reads().velocity)
             || self.spring.is_some_and(|s| s.damping != 0.0)
     }
 
@@ -456,7 +454,7 @@ impl ForceModel for Forces {
             || self.spring.is_some_and(|s| s.rest_length != 0.0)
             || self.point_mass.is_some()
             || self.mach_drag.is_some()
-            || self.custom.is_some()
+            || !self.custom.is_empty()
             || self.thrust.is_some()
     }
 
@@ -534,7 +532,7 @@ impl ForceModel for Forces {
             || self.quadratic_drag.is_some()
             || self.spring.is_some()
             || self.mach_drag.is_some()
-            || self.custom.is_some()
+            || !self.custom.is_empty()
             || self.thrust.is_some();
         self.point_mass.filter(|_| !others)
     }

@@ -117,7 +117,7 @@ pub enum Integrator {
     /// internal step, 6 more per further attempt (first-same-as-last); every evaluation of
     /// rejected attempts is counted. No step-size stability limit: the controller shrinks the
     /// internal step until the estimate passes, so a stiff scene costs evaluations instead of
-    /// diverging. More than [`DOPRI_MAX_ATTEMPTS`] attempts in one step, or a non-finite
+    /// diverging. More than `DOPRI_MAX_ATTEMPTS` attempts in one step, or a non-finite
     /// estimate, ends the step with a non-finite state, which the world reports as a divergence.
     Dopri5,
     /// Implicit midpoint on the linear terms, explicit midpoint on the rest:

@@ -57,6 +57,12 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+// The closed root: with the `internals` feature off (a game's build), a type that a root
+// item's signature or public field names must itself be at the root; the build fails naming it.
+#![deny(unnameable_types)]
+// Without `internals`, what only that module re-exports (for Volley's own tools) looks unused.
+#![cfg_attr(not(feature = "internals"), allow(unused_imports, dead_code))]
+
 // The layers, bottom up (the crate doc above says what each is for). A module imports only
 // from its own layer or the ones below it.
 
@@ -115,6 +121,7 @@ mod timeline;
 /// Not part of the surface a game builds on: paths here change without notice. A game that
 /// finds itself reaching in for something is telling us the root lacks it.
 #[doc(hidden)]
+#[cfg(feature = "internals")]
 pub mod internals {
     pub mod body {
         //! Re-exported from the private module of that name.
@@ -210,33 +217,50 @@ pub mod internals {
     }
 }
 
-// The game-facing surface (the crate doc lists it by purpose).
-pub use atmosphere::Atmosphere;
-pub use body::{Bodies, BodyId, BodyState};
+// The game-facing surface (the crate doc lists it by purpose). Closed: every type a root item's
+// signature or public field names is exported here too (`unnameable_types` is denied above).
+pub use atmosphere::{Air, AirColumn, Atmosphere};
+pub use body::{Bodies, BodyId, BodyState, Launch, Vec3s};
 pub use clock::{
     ClockError, FixedClock, FrameSource, FrameTicks, LoopPolicy, RealClock, VirtualClock,
 };
-pub use command::{Command, CommandError, CommandParseError, ScriptError, Stamped, parse_script};
-pub use contact::{Detection, Event, EventKind, Ground, Surface, Target, Wall};
-pub use drag::DragTable;
+pub use command::{
+    Command, CommandError, CommandParseError, MAX_SCRIPT_COMMANDS, ScriptError, ScriptProblem,
+    Stamped, parse_script,
+};
+pub use contact::{Contacts, Detection, Event, EventKind, Ground, Surface, Target, Wall};
+pub use drag::{DragTable, DragTableError, Interpolation};
+pub use exact::{AimError, Arc as LaunchArc};
 pub use firing::{
-    FiringError, Holdover, Mode as AimMode, Range as AimRange, Shot, holdover, solve as solve_aim,
+    Blocked as ShotBlocked, FiringError, Holdover, HoldoverRow, Mode as AimMode, Range as AimRange,
+    Shot, ShotKind, Textbook as TextbookAim, holdover, solve as solve_aim,
 };
 pub use forces::{
-    ForceKind, ForceTerm, Forces, MachDrag, PointMass, SpinLift, Spring, Thrust,
-    register as register_force_term,
+    AirModel, CustomForce, CustomForceError, DragCurve, DragSize, ForceInput, ForceKind, ForceTerm,
+    ForceTerms, Forces, LiftModel, MachDrag, PointMass, Reads, SpinDecay, SpinLift, Spring, Thrust,
+    ThrustCurve, ThrustCurveError, ThrustDirection, Wind,
 };
 pub use hash::state_hash;
-pub use integrate::Integrator;
+pub use integrate::{DEFAULT_TOLERANCE, Integrator, IntegratorInfo};
 pub use pacing::{DEFAULT_DRAW, DEFAULT_POLICY, DrawMode};
-pub use replay::{FirstDivergence, RecordOptions, Recorder, Recording, Replay};
+pub use replay::{
+    ErrorKind as ReplayErrorKind, FieldDiff, FirstDivergence, FlushPolicy,
+    Footer as RecordingFooter, Header as RecordingHeader, KeyframeEntry, Mismatch, RecordOptions,
+    RecordStats, Recorder, Recording, Replay, ReplayError, Value as FieldValue, Verifier,
+    format::Build as BuildInfo,
+};
+pub use rng::SplitMix64;
 pub use scene::{
-    BodySpec, Guard, Launcher, Scene, SceneBuilder, SceneError, Volley, bundled as bundled_scene,
-    load as load_scene, parse as parse_scene,
+    BodySpec, CompareLane, Guard, IntegratorError, InvalidValue, Launcher, MAX_BODIES,
+    MAX_COMPARE_LANES, MAX_SUBSTEPS, MAX_TICK_WORK, MAX_VOLLEY, MIN_TOLERANCE, Scene, SceneBuilder,
+    SceneError, ValueProblem, Volley, bundled as bundled_scene, load as load_scene,
+    load_with as load_scene_with, parse as parse_scene, parse_with as parse_scene_with,
 };
 pub use sim_loop::{LoopError, ObserverError, SimLoop, TickObserver};
-pub use timeline::Timeline;
-pub use world::{Divergence, World};
+pub use timeline::{SeekError, Timeline};
+pub use world::{
+    Divergence, DivergenceCause, MAX_COUNT, Params as WorldParams, RestoreError, State, World,
+};
 
 // docs/library.md's examples, compiled and run as doc tests so the page cannot go stale.
 #[cfg(doctest)]

@@ -14,8 +14,8 @@ use crate::contact::{Detection, Ground, Target, Wall};
 use crate::drag::Interpolation;
 use crate::exact::{AimError, Arc, aim};
 use crate::forces::{
-    AirModel, DragCurve, DragSize, ForceKind, Forces, KG_M2_PER_LB_IN2, LiftModel, MachDrag,
-    PointMass, RAD_S_PER_RPM, SpinDecay, SpinLift, Spring, Thrust, ThrustDirection, Wind,
+    AirModel, DragCurve, DragSize, ForceKind, ForceTerms, Forces, KG_M2_PER_LB_IN2, LiftModel,
+    MachDrag, PointMass, RAD_S_PER_RPM, SpinDecay, SpinLift, Spring, Thrust, ThrustDirection, Wind,
 };
 use crate::integrate::{DEFAULT_TOLERANCE, Integrator};
 
@@ -380,8 +380,14 @@ pub fn read_text(path: &Path) -> std::io::Result<String> {
     Ok(text)
 }
 
-/// Reads and validates a scene file.
+/// Reads and validates a scene file that names no game's own term ([`load_with`] takes the
+/// program's terms).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    load_with(path, &ForceTerms::new())
+}
+
+/// Reads and validates a scene file, resolving the game's own terms it names in `terms`.
+pub fn load_with(path: &Path, terms: &ForceTerms) -> Result<Scene, SceneError> {
     let file = path.display().to_string();
     let text = read_text(path).map_err(|e| SceneError {
         file: file.clone(),
@@ -390,12 +396,23 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         message: format!("cannot read: {e}"),
     })?;
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned());
-    parse(&text, &file, stem.as_deref().unwrap_or("scene"))
+    parse_with(&text, &file, stem.as_deref().unwrap_or("scene"), terms)
 }
 
-/// Parses and validates scene text; `file` labels errors, `default_name` is used if the scene
-/// has no `name`.
+/// Parses and validates scene text that names no game's own term; `file` labels errors,
+/// `default_name` is used if the scene has no `name` ([`parse_with`] takes the program's
+/// terms).
 pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Scene, SceneError> {
+    parse_with(text, file, default_name, &ForceTerms::new())
+}
+
+/// [`parse`], resolving the game's own terms the text names in `terms`.
+pub fn parse_with(
+    text: &str,
+    file: &str,
+    default_name: &str,
+    terms: &ForceTerms,
+) -> Result<Scene, SceneError> {
     let options =
         ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     let raw: RawScene = options.from_str(text).map_err(|e| SceneError {
@@ -404,7 +421,7 @@ pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Scene, SceneE
         field: None,
         message: ron_error::describe(&e.code),
     })?;
-    validate(raw, text, default_name).map_err(|e| SceneError {
+    validate(raw, text, default_name, terms).map_err(|e| SceneError {
         file: file.to_string(),
         position: None,
         message: e.problem.to_string(),

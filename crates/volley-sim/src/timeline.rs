@@ -103,7 +103,7 @@ const COMMAND_BYTES: usize = std::mem::size_of::<Stamped>();
 
 impl Timeline {
     /// A timeline starting at the world's current tick, within `budget` bytes, a keyframe
-    /// every [`FIRST_EVERY`] ticks to begin with.
+    /// every `FIRST_EVERY` ticks to begin with.
     pub fn new(world: &World, budget: usize) -> Timeline {
         Timeline::with_interval(world, budget, FIRST_EVERY)
     }

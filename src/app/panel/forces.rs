@@ -32,11 +32,12 @@ pub fn lines(declared: &Forces, active: &Forces, launcher: &Launcher) -> Vec<(St
                 crate::ForceKind::Spring => "Spring".to_string(),
                 crate::ForceKind::PointMass => "PointMass".to_string(),
                 crate::ForceKind::MachDrag => mach_drag(declared, launcher),
-                crate::ForceKind::Custom => {
-                    declared.custom.as_ref().map_or_else(String::new, |c| {
-                        format!("Custom {} v{}", c.0.name(), c.0.version())
-                    })
-                }
+                crate::ForceKind::Custom => declared
+                    .custom
+                    .iter()
+                    .map(|c| format!("Custom {} v{}", c.name(), c.version()))
+                    .collect::<Vec<_>>()
+                    .join(", "),
                 crate::ForceKind::Thrust => thrust(declared),
             };
             (text, active.has(kind))

@@ -71,7 +71,7 @@ impl<const CONSTANT: bool> DragField<CONSTANT> {
             || forces.spring.is_some()
             || forces.point_mass.is_some()
             || forces.mach_drag.is_some()
-            || forces.custom.is_some()
+            || !forces.custom.is_empty()
             || forces.thrust.is_some();
         (forces.constant.is_some() == CONSTANT && !others).then(|| DragField {
             forces: forces.clone(),

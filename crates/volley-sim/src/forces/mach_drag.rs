@@ -292,7 +292,7 @@ impl MachDrag {
     /// `w.launch` says: the drag with the spin's addition, plus the lift. Out of line, as
     /// [`MachDrag::force`] is.
     #[inline(never)]
-    pub fn spun_force(&self, t: f64, p: DVec3, v: DVec3, w: crate::body::Mass) -> DVec3 {
+    pub(crate) fn spun_force(&self, t: f64, p: DVec3, v: DVec3, w: crate::body::Mass) -> DVec3 {
         let (drag, lift) = self.spun_parts(t, p, v, w);
         drag + lift
     }
@@ -300,7 +300,13 @@ impl MachDrag {
     /// [`MachDrag::spun_force`] in its two parts: the drag (along `-u`) and the lift (across
     /// it; zero without a spin, a diameter, speed or spin rate).
     #[inline(always)]
-    pub fn spun_parts(&self, t: f64, p: DVec3, v: DVec3, w: crate::body::Mass) -> (DVec3, DVec3) {
+    pub(crate) fn spun_parts(
+        &self,
+        t: f64,
+        p: DVec3,
+        v: DVec3,
+        w: crate::body::Mass,
+    ) -> (DVec3, DVec3) {
         let u = v - self.wind_at(p.z);
         let (density, sound) = self.air.at(p.z);
         let speed = u.length();

@@ -293,7 +293,7 @@ pub struct Header {
     pub volley_version: String,
     /// The writer's build.
     pub build: Build,
-    /// The hash layout tag ([`crate::hash::HASH_LAYOUT`]) the stored hashes use.
+    /// The hash layout tag (`crate::hash::HASH_LAYOUT`) the stored hashes use.
     pub hash_layout: String,
     /// The scene's file as given to the writer (for messages only).
     pub scene_file: String,

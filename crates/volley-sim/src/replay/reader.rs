@@ -45,6 +45,8 @@ pub struct Recording<R> {
     footer: Option<Footer>,
     truncated: Option<u64>,
     end_tick: u64,
+    /// The program's own force terms, which the embedded scene's `Custom` terms resolve in.
+    terms: crate::forces::ForceTerms,
 }
 
 impl Recording<BufReader<File>> {
@@ -154,7 +156,17 @@ impl<R: Read + Seek> Recording<R> {
             end_tick: index.footer.map_or(checked, |f| f.final_tick),
             footer: index.footer,
             truncated,
+            terms: crate::forces::ForceTerms::new(),
         })
+    }
+
+    /// The recording with the game's own force terms its scene may name: what
+    /// [`Recording::scene`] and a [`super::Replay`] of it resolve them in. Without them a scene
+    /// that names one is refused, naming the term.
+    #[must_use]
+    pub fn with_terms(mut self, terms: crate::forces::ForceTerms) -> Self {
+        self.terms = terms;
+        self
     }
 
     /// The file's name, as errors show it.
@@ -224,12 +236,18 @@ impl<R: Read + Seek> Recording<R> {
         out
     }
 
-    /// The embedded scene with the recorded run's timestep, substeps and integrator.
+    /// The embedded scene with the recorded run's timestep, substeps and integrator, its own
+    /// force terms resolved in the recording's ([`Recording::with_terms`]).
     pub fn scene(&self) -> Result<Scene, ReplayError> {
+        self.scene_with(&self.terms)
+    }
+
+    /// [`Recording::scene`] with the game's own terms resolved in `terms`.
+    pub fn scene_with(&self, terms: &crate::forces::ForceTerms) -> Result<Scene, ReplayError> {
         let h = &self.header;
         let fail = |m: String| ReplayError::input(&self.label, None, m);
         let file = format!("{} (embedded)", h.scene_file);
-        let mut scene = scene::parse(&h.scene_source, &file, &h.scene_name)
+        let mut scene = scene::parse_with(&h.scene_source, &file, &h.scene_name, terms)
             .map_err(|e| fail(format!("the embedded scene no longer parses: {e}")))?;
         if !(1..=1_000_000_000_000).contains(&h.timestep_ns) {
             return Err(fail(format!("header: timestep of {} ns", h.timestep_ns)));

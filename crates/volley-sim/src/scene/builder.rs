@@ -19,6 +19,8 @@ pub const BUILT: &str = "<built in code>";
 pub struct SceneBuilder {
     scene: Scene,
     dt: f64,
+    /// The game's own terms added with [`SceneBuilder::custom`], which `build` resolves.
+    terms: ForceTerms,
 }
 
 impl Scene {
@@ -60,7 +62,11 @@ impl Scene {
         );
         let scene = parse(&defaults, BUILT, name)
             .expect("the builder's defaults are a valid scene for any name");
-        SceneBuilder { scene, dt }
+        SceneBuilder {
+            scene,
+            dt,
+            terms: ForceTerms::new(),
+        }
     }
 }
 
@@ -149,6 +155,31 @@ impl SceneBuilder {
         self
     }
 
+    /// Drag against a Mach-dependent curve in the air and the wind ([`MachDrag::new`]).
+    pub fn mach_drag(mut self, drag: MachDrag) -> Self {
+        self.scene.forces.mach_drag = Some(drag);
+        self
+    }
+
+    /// A motor on every body ([`Thrust::new`]).
+    pub fn thrust(mut self, thrust: Thrust) -> Self {
+        self.scene.forces.thrust = Some(thrust);
+        self
+    }
+
+    /// One more of the game's own terms, evaluated after those added before it. The built
+    /// scene holds the term itself; its file text names it, so [`crate::parse_scene_with`]
+    /// and a replay find it again in the program's [`ForceTerms`].
+    pub fn custom(mut self, term: impl crate::forces::ForceTerm + 'static) -> Self {
+        let term: std::sync::Arc<dyn crate::forces::ForceTerm> = std::sync::Arc::new(term);
+        self.terms.add(std::sync::Arc::clone(&term));
+        self.scene
+            .forces
+            .custom
+            .push(crate::forces::CustomForce(term));
+        self
+    }
+
     /// The ground plane.
     pub fn ground(mut self, ground: Ground) -> Self {
         self.scene.ground = Some(ground);
@@ -200,7 +231,11 @@ impl SceneBuilder {
     /// The scene, checked as a scene file is: written as one and read back, so every error is
     /// the file's (naming the field) and [`Scene::source`] is that file.
     pub fn build(self) -> Result<Scene, SceneError> {
-        let SceneBuilder { mut scene, dt } = self;
+        let SceneBuilder {
+            mut scene,
+            dt,
+            terms,
+        } = self;
         scene.timestep = timestep_from_secs("dt", dt).map_err(|e| SceneError {
             file: BUILT.to_string(),
             position: None,
@@ -212,6 +247,6 @@ impl SceneBuilder {
             scene.name.escape_debug(),
             scene.ron_body()
         );
-        parse(&text, BUILT, &scene.name)
+        parse_with(&text, BUILT, &scene.name, &terms)
     }
 }

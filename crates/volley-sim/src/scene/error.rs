@@ -88,6 +88,8 @@ pub enum ValueProblem {
     EnergyFactor(f64),
     /// A force term declared a second time.
     DuplicateForce(ForceKind),
+    /// A game's own term declared twice (by name).
+    DuplicateTerm(String),
     /// An `Aim` launch in a scene without gravity along -z.
     AimNeedsGravity,
     /// An `Aim` launch with no solution.
@@ -153,6 +155,10 @@ impl std::fmt::Display for ValueProblem {
                 write!(f, "expected at most {MAX_COMPARE_LANES} lanes, got {n}")
             }
             ValueProblem::EnergyFactor(x) => write!(f, "expected a finite number > 1, got {x}"),
+            ValueProblem::DuplicateTerm(name) => write!(
+                f,
+                "custom term `{name}` is declared twice; declare each term once"
+            ),
             ValueProblem::DuplicateForce(kind) => write!(
                 f,
                 "{} is declared twice; declare each term once",

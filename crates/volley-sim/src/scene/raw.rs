@@ -52,10 +52,10 @@ impl Scene {
                 mu: pm.mu,
             });
         }
-        if let Some(c) = &f.custom {
+        for c in &f.custom {
             forces.push(ForceTerm::Custom {
-                name: c.0.name().to_string(),
-                version: c.0.version(),
+                name: c.name().to_string(),
+                version: c.version(),
             });
         }
         if let Some(d) = &f.mach_drag {

@@ -83,6 +83,7 @@ pub(super) fn validate(
     raw: RawScene,
     text: &str,
     default_name: &str,
+    terms: &ForceTerms,
 ) -> Result<Scene, InvalidValue> {
     let timestep = timestep_from_secs("dt", raw.dt)?;
     let start_time = finite("start_time", raw.start_time)?;
@@ -95,7 +96,7 @@ pub(super) fn validate(
         Some(x) => check_tolerance("tolerance", x)?,
         None => DEFAULT_TOLERANCE,
     };
-    let forces = validate_forces(&raw.forces)?;
+    let forces = validate_forces(&raw.forces, terms)?;
     check_integrator(integrator, &forces)
         .map_err(|e| invalid("integrator", ValueProblem::Integrator(e)))?;
     if raw.compare.len() > MAX_COMPARE_LANES {
@@ -217,23 +218,27 @@ pub fn check_integrator(integrator: Integrator, forces: &Forces) -> Result<(), I
         Integrator::ForestRuth if forces.mach_drag.is_some() => {
             Err(IntegratorError::NoVelocitySolve(ForceKind::MachDrag))
         }
-        Integrator::ForestRuth
-            if forces
-                .custom
-                .as_ref()
-                .is_some_and(|c| c.0.velocity_dependent()) =>
-        {
+        Integrator::ForestRuth if forces.custom.iter().any(|c| c.reads().velocity) => {
             Err(IntegratorError::NoVelocitySolve(ForceKind::Custom))
         }
         _ => Ok(()),
     }
 }
 
-pub(super) fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, InvalidValue> {
+/// The declared terms, checked, with a game's own resolved in `terms`. Each built-in kind at
+/// most once; several custom terms, each name once.
+pub(super) fn validate_forces(
+    declared: &[ForceTerm],
+    terms: &ForceTerms,
+) -> Result<Forces, InvalidValue> {
     let mut forces = Forces::default();
-    for (i, term) in terms.iter().enumerate() {
+    for (i, term) in declared.iter().enumerate() {
         let field = format!("forces[{i}]");
-        if forces.has(term.kind()) {
+        if let ForceTerm::Custom { name, .. } = term {
+            if forces.custom.iter().any(|c| c.name() == name) {
+                return Err(invalid(field, ValueProblem::DuplicateTerm(name.clone())));
+            }
+        } else if forces.has(term.kind()) {
             return Err(invalid(field, ValueProblem::DuplicateForce(term.kind())));
         }
         match term.clone() {
@@ -283,8 +288,9 @@ pub(super) fn validate_forces(terms: &[ForceTerm]) -> Result<Forces, InvalidValu
                 forces.mach_drag = Some(validate_mach_drag(&field, &raw)?);
             }
             ForceTerm::Custom { name, version } => {
-                forces.custom = Some(
-                    crate::forces::resolve(&name, version)
+                forces.custom.push(
+                    terms
+                        .resolve(&name, version)
                         .map_err(|e| invalid(field, ValueProblem::Custom(e)))?,
                 );
             }

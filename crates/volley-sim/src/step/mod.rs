@@ -109,11 +109,11 @@ impl World {
     /// when the observer asked for no tick in between.
     ///
     /// A world without contacts (so without events) runs **batches**: its bodies do not
-    /// interact, so each block of [`BATCH_BLOCK`] bodies runs every tick of the batch while it
+    /// interact, so each block of `BATCH_BLOCK` bodies runs every tick of the batch while it
     /// sits in the core's cache before the next block is loaded, and the state crosses the
     /// memory bus once per batch instead of once per tick; the energy guard checks each block
     /// at the ticks it is due, while the block is still in cache. A batch is at most
-    /// [`BATCH_MAX_TICKS`] long. Each body goes through exactly the operations `step` applies,
+    /// `BATCH_MAX_TICKS` long. Each body goes through exactly the operations `step` applies,
     /// in the same order, so the bits are the same. Before a batch the state is saved (as each
     /// block is loaded); if any body turns non-finite or trips the guard inside it, the batch
     /// is undone and run again tick by tick, so the run stops at exactly the tick, body and

@@ -69,7 +69,7 @@ pub fn conservative(scene: &Scene) -> bool {
     let damped = f.linear_drag.is_some_and(|b| b > 0.0)
         || f.quadratic_drag.is_some_and(|c| c > 0.0)
         || f.mach_drag.is_some()
-        || f.custom.is_some()
+        || !f.custom.is_empty()
         || f.thrust.is_some()
         || f.spring.is_some_and(|s| s.damping > 0.0);
     let lossy = scene.ground.is_some_and(|g| g.restitution < 1.0)

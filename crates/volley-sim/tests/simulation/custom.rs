@@ -1,14 +1,12 @@
 //! A game's own force term (`ForceTerm`): stepped by every integrator that can, at each stage's
 //! own time, named in scene files and recordings, refused where it must be.
 
-use std::sync::Arc;
-
 use glam::DVec3;
-use volley_sim::internals::forces::{ForceTerm, register};
 use volley_sim::internals::integrate::Integrator;
 use volley_sim::internals::scene;
 use volley_sim::internals::world::World;
 use volley_sim::state_hash;
+use volley_sim::{ForceInput, ForceTerm, ForceTerms, Reads};
 
 /// Quadratic drag written as a game would: `-c |v| v`, the built-in term's own operations.
 #[derive(Debug)]
@@ -21,8 +19,8 @@ impl ForceTerm for GameDrag {
     fn version(&self) -> u32 {
         1
     }
-    fn force(&self, _t: f64, _p: DVec3, v: DVec3, _m: f64) -> DVec3 {
-        -((self.0 * v.length()) * v)
+    fn force(&self, i: &ForceInput) -> DVec3 {
+        -((self.0 * i.v.length()) * i.v)
     }
 }
 
@@ -41,17 +39,24 @@ impl ForceTerm for Swing {
     fn version(&self) -> u32 {
         2
     }
-    fn force(&self, t: f64, _p: DVec3, _v: DVec3, m: f64) -> DVec3 {
-        DVec3::new(m * A * libm::cos(W * t), 0.0, 0.0)
+    fn force(&self, i: &ForceInput) -> DVec3 {
+        DVec3::new(i.m * A * libm::cos(W * i.t), 0.0, 0.0)
     }
-    fn velocity_dependent(&self) -> bool {
-        false
+    fn reads(&self) -> Reads {
+        Reads::POSITION
     }
 }
 
-fn register_all() {
-    register(Arc::new(GameDrag(0.02)));
-    register(Arc::new(Swing));
+/// The program's terms, as a game passes them to Volley.
+fn terms() -> ForceTerms {
+    ForceTerms::new()
+        .with(GameDrag(0.02))
+        .with(Swing)
+        .with(Fuse)
+}
+
+fn parse(text: &str, file: &str, name: &str) -> Result<scene::Scene, volley_sim::SceneError> {
+    volley_sim::parse_scene_with(text, file, name, &terms())
 }
 
 fn scene_with(forces: &str, integrator: Integrator, dt: f64) -> scene::Scene {
@@ -60,12 +65,11 @@ fn scene_with(forces: &str, integrator: Integrator, dt: f64) -> scene::Scene {
            bodies: [(mass: 1.5, position: (0, 0, 10), launch: Velocity((20, 3, 15))),
                     (mass: 0.4, position: (1, 2, 3), launch: Velocity((-5, 0, 30)))])"
     );
-    scene::parse(&text, "custom.ron", "custom").unwrap_or_else(|e| panic!("{e}"))
+    parse(&text, "custom.ron", "custom").unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
 fn a_games_drag_steps_to_the_bits_of_the_built_in_term_it_equals() {
-    register_all();
     let gravity = "Gravity((0, 0, -9.81))";
     for integrator in Integrator::ALL {
         if matches!(integrator, Integrator::Exact | Integrator::ForestRuth) {
@@ -90,13 +94,12 @@ fn a_games_drag_steps_to_the_bits_of_the_built_in_term_it_equals() {
 fn a_time_dependent_term_is_read_at_each_stages_time() {
     // RK4's error at t = 2 s falls 16-fold per halving of the step only if every stage reads
     // the force at its own time (one stale stage time drops the order to 1).
-    register_all();
     let err = |dt: f64| {
         let text = format!(
             "Scene(dt: {dt:?}, integrator: Rk4, forces: [Custom(name: \"test/swing\", version: 2)],
                bodies: [(mass: 2, position: (0, 0, 0))])"
         );
-        let mut w = World::new(&scene::parse(&text, "swing.ron", "swing").unwrap());
+        let mut w = World::new(&parse(&text, "swing.ron", "swing").unwrap());
         let ticks = (2.0 / dt).round() as u64;
         w.step_ticks(ticks).unwrap();
         let t = w.time();
@@ -114,7 +117,7 @@ fn a_time_dependent_term_is_read_at_each_stages_time() {
         )
     };
     let verlet = |dt: f64| {
-        let mut w = World::new(&scene::parse(&text(dt), "swing.ron", "swing").unwrap());
+        let mut w = World::new(&parse(&text(dt), "swing.ron", "swing").unwrap());
         w.step_ticks((2.0 / dt).round() as u64).unwrap();
         let exact = A * (1.0 - libm::cos(W * w.time())) / (W * W);
         (w.bodies().positions().get(0).x - exact).abs()
@@ -128,7 +131,6 @@ fn a_time_dependent_term_is_read_at_each_stages_time() {
 
 #[test]
 fn a_batch_and_single_ticks_give_a_time_dependent_term_the_same_bits() {
-    register_all();
     let forces = "Gravity((0, 0, -9.81)), Custom(name: \"test/swing\", version: 2)";
     for integrator in [
         Integrator::Rk4,
@@ -147,9 +149,8 @@ fn a_batch_and_single_ticks_give_a_time_dependent_term_the_same_bits() {
 
 #[test]
 fn a_scene_naming_a_term_this_program_lacks_is_refused_in_one_line() {
-    register_all();
     let unknown = "Custom(name: \"someone-else/thrust\", version: 1)";
-    let err = scene::parse(
+    let err = parse(
         &format!("Scene(dt: 0.01, integrator: Rk4, forces: [{unknown}])"),
         "replay.ron",
         "r",
@@ -158,12 +159,12 @@ fn a_scene_naming_a_term_this_program_lacks_is_refused_in_one_line() {
     assert_eq!(err.field.as_deref(), Some("forces[0]"), "{err}");
     let text = err.to_string();
     assert!(
-        text.contains("`someone-else/thrust` (version 1) is not registered"),
+        text.contains("`someone-else/thrust` (version 1) is not in this program's terms"),
         "{text}"
     );
     assert!(!text.contains('\n'));
     let other = "Custom(name: \"test/swing\", version: 1)";
-    let err = scene::parse(
+    let err = parse(
         &format!("Scene(dt: 0.01, integrator: Rk4, forces: [{other}])"),
         "replay.ron",
         "r",
@@ -178,7 +179,6 @@ fn a_scene_naming_a_term_this_program_lacks_is_refused_in_one_line() {
 
 #[test]
 fn a_saved_scene_names_the_term_and_its_version() {
-    register_all();
     let scene = scene_with(
         "Custom(name: \"test/swing\", version: 2)",
         Integrator::Rk4,
@@ -190,17 +190,16 @@ fn a_saved_scene_names_the_term_and_its_version() {
         squeezed.contains("Custom(name:\"test/swing\",version:2,)"),
         "{text}"
     );
-    let back = scene::parse(&text, "saved.ron", "saved").unwrap();
+    let back = parse(&text, "saved.ron", "saved").unwrap();
     assert_eq!(back.forces, scene.forces);
 }
 
 #[test]
 fn exact_refuses_any_custom_term_and_forest_ruth_a_velocity_dependent_one() {
-    register_all();
     let drag = "Custom(name: \"test/game-drag\", version: 1)";
     let swing = "Custom(name: \"test/swing\", version: 2)";
     let parse = |forces: &str, i: &str| {
-        scene::parse(
+        parse(
             &format!("Scene(dt: 0.01, integrator: {i}, forces: [{forces}])"),
             "x.ron",
             "x",
@@ -222,7 +221,7 @@ fn exact_refuses_any_custom_term_and_forest_ruth_a_velocity_dependent_one() {
 
 /// A game's own motor that reads each body's own clock: `m a (1 - age / 0.5)` along +x for the
 /// first 0.5 s after the body's launch, nothing after (`ForceTerm::force_launched` with the
-/// launch).
+/// launch, which it says it reads).
 #[derive(Debug)]
 struct Fuse;
 
@@ -233,25 +232,16 @@ impl ForceTerm for Fuse {
     fn version(&self) -> u32 {
         1
     }
-    fn force(&self, _t: f64, _p: DVec3, _v: DVec3, _m: f64) -> DVec3 {
-        unreachable!("Volley calls force_launched for a term that reads the launch")
+    fn reads(&self) -> Reads {
+        Reads {
+            velocity: false,
+            launch: true,
+        }
     }
-    fn force_launched(
-        &self,
-        t: f64,
-        _p: DVec3,
-        _v: DVec3,
-        m: f64,
-        launch: &volley_sim::internals::integrate::Launch,
-    ) -> DVec3 {
-        let age = t - launch.time;
-        DVec3::new(m * 4.0 * (1.0 - age / 0.5).max(0.0), 0.0, 0.0)
-    }
-    fn velocity_dependent(&self) -> bool {
-        false
-    }
-    fn reads_launch(&self) -> bool {
-        true
+    fn force(&self, i: &ForceInput) -> DVec3 {
+        let launch = i.launch.expect("a term that reads the launch is given it");
+        let age = i.t - launch.time;
+        DVec3::new(i.m * 4.0 * (1.0 - age / 0.5).max(0.0), 0.0, 0.0)
     }
 }
 
@@ -261,12 +251,11 @@ impl ForceTerm for Fuse {
 /// RK4's stages are Simpson's rule, exact for it (to rounding).
 #[test]
 fn a_term_that_reads_the_launch_pushes_each_body_on_its_own_clock() {
-    register(Arc::new(Fuse));
     let text = "Scene(dt: 0.01, integrator: Rk4, forces: [Custom(name: \"test/fuse\", version: 1)],
                   bodies: [(mass: 2, position: (0, 0, 0))],
                   launcher: (position: (0, 5, 0), speed: 0, elevation_deg: 0, azimuth_deg: 0,
                              mass: 0.5))";
-    let scene = scene::parse(text, "fuse.ron", "fuse").unwrap();
+    let scene = parse(text, "fuse.ron", "fuse").unwrap();
     let mut world = World::new(&scene);
     world.step_ticks(30).unwrap();
     world.apply(&volley_sim::Command::Fire).unwrap();
@@ -282,4 +271,92 @@ fn a_term_that_reads_the_launch_pushes_each_body_on_its_own_clock() {
     }
     // Had the term read the world's clock, the second body would have got 0.2 s of the
     // push's tail: 0.16 m/s.
+}
+
+/// Several of a game's terms in one scene, evaluated in the order declared: the drag and the
+/// swing together step to the bits of the built-in quadratic drag plus the swing, and the same
+/// term twice is refused by name.
+#[test]
+fn a_scene_holds_several_terms_and_each_name_once() {
+    let both = "Gravity((0, 0, -9.81)), Custom(name: \"test/game-drag\", version: 1), \
+                Custom(name: \"test/swing\", version: 2)";
+    let builtin = "Gravity((0, 0, -9.81)), QuadraticDrag(0.02), \
+                   Custom(name: \"test/swing\", version: 2)";
+    let run = |forces: &str| {
+        let mut w = World::new(&scene_with(forces, Integrator::Rk4, 0.01));
+        w.step_ticks(100).unwrap();
+        state_hash(&w)
+    };
+    assert_eq!(run(both), run(builtin));
+    assert_eq!(
+        scene_with(both, Integrator::Rk4, 0.01).forces.custom.len(),
+        2
+    );
+    let twice =
+        "Custom(name: \"test/swing\", version: 2), Custom(name: \"test/swing\", version: 2)";
+    let err = parse(
+        &format!("Scene(dt: 0.01, integrator: Rk4, forces: [{twice}])"),
+        "x.ron",
+        "x",
+    )
+    .unwrap_err();
+    assert_eq!(err.field.as_deref(), Some("forces[1]"), "{err}");
+    assert!(
+        err.to_string().contains("`test/swing` is declared twice"),
+        "{err}"
+    );
+}
+
+/// A term is a value a world holds: two programs' terms of the same name (here two drags of
+/// different strength) live side by side in one process, each scene resolving its own.
+#[test]
+fn terms_are_values_so_two_worlds_hold_two_terms_of_one_name() {
+    let text = "Scene(dt: 0.01, integrator: Rk4, forces: [Gravity((0, 0, -9.81)), \
+                Custom(name: \"test/game-drag\", version: 1)],
+                bodies: [(mass: 1, position: (0, 0, 0), launch: Velocity((30, 0, 30)))])";
+    let weak = ForceTerms::new().with(GameDrag(0.001));
+    let strong = ForceTerms::new().with(GameDrag(0.1));
+    let run = |terms: &ForceTerms| {
+        let scene = volley_sim::parse_scene_with(text, "d.ron", "d", terms).unwrap();
+        let mut w = World::new(&scene);
+        w.step_ticks(100).unwrap();
+        w.bodies().positions().get(0).x
+    };
+    let (far, near) = (run(&weak), run(&strong));
+    assert!(far > 1.5 * near, "{far} vs {near}");
+}
+
+/// A term that does not say it reads the launch is given none, never a launch of zeros.
+#[derive(Debug)]
+struct Peek;
+
+impl ForceTerm for Peek {
+    fn name(&self) -> &str {
+        "test/peek"
+    }
+    fn version(&self) -> u32 {
+        1
+    }
+    fn force(&self, i: &ForceInput) -> DVec3 {
+        assert!(
+            i.launch.is_none(),
+            "an undeclared launch was given: {:?}",
+            i.launch
+        );
+        DVec3::ZERO
+    }
+}
+
+#[test]
+fn a_term_that_does_not_read_the_launch_is_given_none() {
+    // Beside the fuse, which reads it: the launch columns are loaded, and still not handed to
+    // the term that did not ask.
+    let text =
+        "Scene(dt: 0.01, integrator: Rk4, forces: [Custom(name: \"test/fuse\", version: 1), \
+                Custom(name: \"test/peek\", version: 1)],
+                bodies: [(mass: 2, position: (0, 0, 0))])";
+    let terms = terms().with(Peek);
+    let scene = volley_sim::parse_scene_with(text, "p.ron", "p", &terms).unwrap();
+    let mut world = World::new(&scene);
+    world.step_ticks(10).unwrap();
 }
