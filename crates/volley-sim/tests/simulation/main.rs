@@ -22,6 +22,7 @@ mod pacing;
 mod parallel;
 mod rest_event;
 mod rocket;
+mod scene_headers;
 mod seed;
 mod stability;
 mod transonic;
