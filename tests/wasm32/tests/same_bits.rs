@@ -110,8 +110,8 @@ fn require_same_lines(target: &str, other: &[String]) {
 #[test]
 fn the_native_suite_verifies_the_golden_recording() {
     // The suite's anchor: its golden line is the pinned verdict of tests/cli/determinism.rs
-    // (301 hashes, 7 keyframes, final hash 0xa3bb4937f154ea1f), so the comparison below
-    // compares a suite that checks what the determinism tests check.
+    // (301 hashes, 7 keyframes, final hash 0xa3bb4937f154ea1f), so the comparisons below
+    // compare a suite that checks what the determinism tests check.
     let lines = native_lines();
     let golden = lines.last().expect("the golden line");
     assert_eq!(
