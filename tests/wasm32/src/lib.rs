@@ -1,8 +1,9 @@
-//! The determinism suite as one function, [`suite`], that runs the same code natively and in a
-//! wasm32 build: every bundled scene under every integrator it accepts, and the golden
-//! recording's verify. `tests/same_bits.rs` runs it both ways (the wasm build in Node, built by
-//! `scripts/wasm32`) and requires the same lines; docs/physics.md, "Determinism", says what it
-//! guards against.
+//! The determinism suite as one function, [`suite`], that runs the same code natively, in a
+//! wasm32 build and in an aarch64 build: every bundled scene under every integrator it accepts,
+//! and the golden recording's verify. `tests/same_bits.rs` runs it all three ways (the wasm
+//! build in Node, built by `scripts/wasm32`; `examples/suite.rs` built for
+//! aarch64-unknown-linux-gnu by `scripts/aarch64`, under qemu-aarch64) and requires the same
+//! lines; docs/physics.md, "Determinism", says what it guards against.
 //!
 //! In the wasm build the report is exported as text: `volley_suite()` runs the suite and
 //! returns a pointer to it, `volley_suite_len()` its length in bytes. The module imports
