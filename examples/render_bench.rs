@@ -76,7 +76,7 @@ fn measure(
     world.set_threads(1);
     let mut sim = SimLoop::new(world);
     let mut history = TickHistory::new(&sim.world, bounds.center());
-    let mut clock = VirtualClock::Steady(scene.timestep);
+    let mut clock = VirtualClock::Steady(scene.timestep());
     sim.run_until(30, &mut clock, &mut history).unwrap();
     let options = DrawOptions::picture(bounds.center(), bounds.radius());
     let spheres_only = DrawOptions {

@@ -509,10 +509,10 @@ impl App {
         match self.session.replay() {
             Some(r) => format!(
                 "Volley: {} (replaying {})",
-                self.session.scene().name,
+                self.session.scene().name(),
                 r.file().display()
             ),
-            None => format!("Volley: {}", self.session.scene().name),
+            None => format!("Volley: {}", self.session.scene().name()),
         }
     }
 

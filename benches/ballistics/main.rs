@@ -48,7 +48,8 @@ fn scene_forces(forces: &str) -> Forces {
     );
     volley::parse_scene(&text, "bench", "bench")
         .expect("the bench scene parses")
-        .forces
+        .forces()
+        .clone()
 }
 
 /// One row of a trajectory: range (m), height (m), speed (m/s), time (s).

@@ -222,7 +222,7 @@ fn read_once_body(world: &World) -> u64 {
 }
 
 fn tick(sim: &mut SimLoop, observer: &mut impl volley::TickObserver) {
-    let dt = sim.world.scene().timestep;
+    let dt = sim.world.scene().timestep();
     sim.frame(dt, observer).expect("the scene runs");
 }
 

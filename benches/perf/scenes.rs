@@ -29,12 +29,16 @@ impl BenchScene {
     /// The scene with `n` bodies (its volley's count) and `integrator`.
     pub fn load(self, n: u64, integrator: Integrator) -> Scene {
         let path = format!("assets/scenes/bench/{}.ron", self.name());
-        let mut scene = scene::load(Path::new(&path)).expect("the bench scenes are valid");
-        let volley = scene
-            .volley
-            .as_mut()
-            .expect("the bench scenes declare a volley");
-        volley.count = u32::try_from(n).expect("bench sizes fit a volley count");
+        let scene = scene::load(Path::new(&path)).expect("the bench scenes are valid");
+        let volley = scene.volley().expect("the bench scenes declare a volley");
+        let mut scene = scene
+            .edit()
+            .volley(volley::Volley {
+                count: u32::try_from(n).expect("bench sizes fit a volley count"),
+                ..volley
+            })
+            .build()
+            .expect("a bench scene with another count is valid");
         scene
             .set_integrator(integrator)
             .expect("the bench scenes' forces have closed forms");

@@ -20,7 +20,7 @@ const SETTLE_TICKS: u64 = 1_000;
 /// end-to-end run), both through [`SimLoop::frame`] with the scene's default guard.
 pub fn bench_seed(c: &mut Criterion) {
     let scene = scenes::seed();
-    let dt = scene.timestep;
+    let dt = scene.timestep();
     let mut group = c.benchmark_group("seed");
     sized(&mut group, 1);
     group.throughput(Throughput::Elements(SEED_TICKS));

@@ -26,15 +26,19 @@ fn main() {
         std::fs::write(sub.join(name), bytes).expect("corpus file");
     };
     for (name, _) in scene::BUNDLED {
-        let mut s = scene::bundled(name).expect("a valid bundled scene");
-        s.compare = vec![
-            CompareLane::of(s.integrator),
-            CompareLane {
-                integrator: Integrator::Rk4,
-                dt: Some(4.0 * s.dt()),
-                substeps: Some(2),
-            },
-        ];
+        let s = scene::bundled(name).expect("a valid bundled scene");
+        let s = s
+            .edit()
+            .compare(vec![
+                CompareLane::of(s.integrator()),
+                CompareLane {
+                    integrator: Integrator::Rk4,
+                    dt: Some(4.0 * s.dt()),
+                    substeps: Some(2),
+                },
+            ])
+            .build()
+            .expect("lanes a bundled scene runs");
         write(
             "scene",
             &format!("saved-{}.ron", name.replace('/', "-")),
@@ -87,7 +91,7 @@ fn record(
 ) -> Vec<u8> {
     let mut sim = SimLoop::new(World::new(scene));
     sim.schedule(commands.iter().copied());
-    let mut source = VirtualClock::Steady(scene.timestep);
+    let mut source = VirtualClock::Steady(scene.timestep());
     let _ = sim.run_until(from, &mut source, &mut ());
     let options = RecordOptions {
         hash_every,

@@ -141,8 +141,8 @@ fn properties_hold_on_the_valid_seeds() {
         let stepped = volley_fuzz::take_evals() > 0;
         // Larger worlds are validated, not built (the harness's bound); the closed form
         // evaluates no force.
-        let built = scene.body_count() <= volley_fuzz::MAX_FUZZ_BODIES && scene.duration > 0.0;
-        let evaluates = scene.integrator != volley_sim::Integrator::Exact;
+        let built = scene.body_count() <= volley_fuzz::MAX_FUZZ_BODIES && scene.duration() > 0.0;
+        let evaluates = scene.integrator() != volley_sim::Integrator::Exact;
         assert_eq!(stepped, built && evaluates, "{name} stepped");
     }
     let commands = std::fs::read(root.join("tests/data/replay_commands.txt")).unwrap();

@@ -42,7 +42,7 @@ impl App {
             Action::ScaleTime(f) => s.set_time_scale((s.time_scale() * f).clamp(1e-3, 100.0))?,
             Action::SetStep { dt, substeps } => self.set_step(dt, substeps)?,
             Action::ScaleDt(f) => {
-                let (dt, substeps) = (s.scene().dt() * f, s.scene().substeps);
+                let (dt, substeps) = (s.scene().dt() * f, s.scene().substeps());
                 self.set_step(dt, substeps)?;
             }
             Action::SetIntegrator(i) => s.push(Command::SetIntegrator(i))?,

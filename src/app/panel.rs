@@ -126,7 +126,7 @@ impl PanelState {
         self.elevation_deg = l.elevation_deg;
         self.azimuth_deg = l.azimuth_deg;
         self.dt_ms = session.scene().dt() * 1e3;
-        self.substeps = session.scene().substeps;
+        self.substeps = session.scene().substeps();
     }
 
     /// Shows `why` as the session's last refusal.
@@ -241,9 +241,9 @@ pub fn show(
 
 fn header(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<Action>) {
     let scene = session.scene();
-    ui.heading(format!("Volley: {}", scene.name));
-    if !scene.description.is_empty() {
-        ui.label(&scene.description);
+    ui.heading(format!("Volley: {}", scene.name()));
+    if !scene.description().is_empty() {
+        ui.label(scene.description());
     }
     ui.small(session.path().display().to_string());
     if let Some((note, ok)) = &state.file_note {
@@ -256,7 +256,7 @@ fn header(ui: &mut Ui, state: &mut PanelState, session: &Session, out: &mut Vec<
     }
     let current = session.path().to_path_buf();
     egui::ComboBox::from_label("scene")
-        .selected_text(scene.name.clone())
+        .selected_text(scene.name())
         .show_ui(ui, |ui| {
             for (name, path) in &state.scenes {
                 if ui.selectable_label(*path == current, name).clicked() {

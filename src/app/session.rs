@@ -57,10 +57,14 @@ fn aim_lane(
     arc: crate::exact::Arc,
 ) -> Result<crate::firing::Shot, String> {
     use crate::firing::{self, Mode, Range, ShotKind};
-    let mut scene = world.scene().clone();
-    scene.integrator = world.integrator();
-    scene.forces = world.forces().clone();
-    scene.launcher = *world.launcher();
+    let scene = world
+        .scene()
+        .edit()
+        .integrator(world.integrator())
+        .forces(world.forces().clone())
+        .launcher(*world.launcher())
+        .build()
+        .map_err(|e| e.to_string())?;
     let t = world.contacts().targets[target];
     let now = crate::contact::Target {
         center: t.center_at(world.tick() as f64 * world.dt()),
@@ -68,7 +72,7 @@ fn aim_lane(
     };
     let range = Range::new(&scene, now);
     let shots =
-        firing::solve(&range, Mode::Speed(scene.launcher.speed)).map_err(|e| e.to_string())?;
+        firing::solve(&range, Mode::Speed(scene.launcher().speed)).map_err(|e| e.to_string())?;
     let kind = ShotKind::Arc(arc);
     let shot = shots
         .into_iter()
@@ -223,7 +227,7 @@ impl Session {
     /// keeps its own). Lanes the scene refuses are left out.
     pub fn lane_scenes(&self) -> Vec<Scene> {
         let specs = if self.compare.is_empty() {
-            vec![CompareLane::of(self.scene.integrator)]
+            vec![CompareLane::of(self.scene.integrator())]
         } else {
             self.compare.clone()
         };
@@ -232,8 +236,9 @@ impl Session {
             .filter_map(|l| l.apply(&self.scene).ok())
             .collect();
         if self.equal_cost && scenes.len() > 1 {
-            let cost =
-                |s: &Scene| s.integrator.evals_per_step(&s.forces) as f64 * f64::from(s.substeps);
+            let cost = |s: &Scene| {
+                s.integrator().evals_per_step(&s.forces()) as f64 * f64::from(s.substeps())
+            };
             let (dt0, cost0) = (scenes[0].dt(), cost(&scenes[0]));
             for s in scenes.iter_mut().skip(1) {
                 let c = cost(s);
@@ -255,7 +260,7 @@ impl Session {
         if scenes.is_empty() {
             refused = Err(format!(
                 "none of the compared integrators can run this scene; showing {}",
-                self.scene.integrator
+                self.scene.integrator()
             ));
             self.compare.clear();
             scenes = self.lane_scenes();
@@ -424,7 +429,7 @@ impl Session {
     /// the scene does not have.
     pub fn aim(&mut self, arc: crate::exact::Arc, target: usize) -> Result<(), String> {
         self.refuse_while_replaying("aim")?;
-        if self.scene.targets.get(target).is_none() {
+        if self.scene.targets().get(target).is_none() {
             return Err(format!("aim: the scene has no target {target}"));
         }
         self.take_over_future();
@@ -439,7 +444,7 @@ impl Session {
                     Command::Fire | Command::Spawn(_) => 1,
                     Command::Reset => {
                         let s = world.scene();
-                        s.bodies.len() as u64 + s.volley.map_or(0, |v| u64::from(v.count))
+                        s.bodies().len() as u64 + s.volley().map_or(0, |v| u64::from(v.count))
                     }
                     _ => 0,
                 })
@@ -514,13 +519,16 @@ impl Session {
     /// starts with.
     fn keep_integrator_choice(&mut self) {
         if !self.is_comparing() {
-            self.scene.integrator = self.lanes[0].sim.world.integrator();
+            // The lane runs it, so the scene (which it was built from) accepts it.
+            let _ = self
+                .scene
+                .set_integrator(self.lanes[0].sim.world.integrator());
         }
     }
 
     /// Changes the timestep (s) and restarts at tick 0 with it.
     pub fn set_dt(&mut self, dt: f64) -> Result<(), String> {
-        self.set_step(dt, self.scene.substeps)
+        self.set_step(dt, self.scene.substeps())
     }
 
     /// Changes the timestep (s) and the integrator steps per tick, and restarts at tick 0 with
@@ -533,14 +541,15 @@ impl Session {
         scene.set_dt(dt).map_err(|e| e.to_string())?;
         scene.set_substeps(substeps).map_err(|e| e.to_string())?;
         let why = match (
-            scene.timestep != self.scene.timestep,
-            scene.substeps != self.scene.substeps,
+            scene.timestep() != self.scene.timestep(),
+            scene.substeps() != self.scene.substeps(),
         ) {
             (true, true) => "dt and substeps changed",
             (false, true) => "substeps changed",
             _ => "dt changed",
         };
-        (self.scene.timestep, self.scene.substeps) = (scene.timestep, scene.substeps);
+        // The checked scene with the new step (and nothing else changed).
+        self.scene = scene;
         // The lanes were running this scene: a new step cannot make it refuse them all.
         self.restart(None, why)
     }

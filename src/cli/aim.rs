@@ -110,11 +110,11 @@ fn run_holdover(args: &AimArgs, spec: &str) -> Result<(), Failure> {
     let mut text = format!(
         "{} at dt {} s x{} substep(s) on {}; {} m/s, sight {} m above the bore, zero {} m at \
          elevation {:.4} deg\n",
-        scene.integrator.name(),
+        scene.integrator().name(),
         scene.dt(),
-        scene.substeps,
-        scene.name,
-        scene.launcher.speed,
+        scene.substeps(),
+        scene.name(),
+        scene.launcher().speed,
         args.sight_height,
         table.zero.0,
         table.zero.1
@@ -185,13 +185,13 @@ fn range_of(args: &AimArgs) -> Result<(Range, Mode), Failure> {
             radius: 0.5,
             velocity: DVec3::ZERO,
         },
-        None => *scene.targets.get(args.target).ok_or_else(|| {
+        None => *scene.targets().get(args.target).ok_or_else(|| {
             fail(
                 EXIT_INPUT,
                 format!(
                     "--target {}: the scene has {} target(s); give --to X,Y,Z",
                     args.target,
-                    scene.targets.len()
+                    scene.targets().len()
                 ),
             )
         })?,
@@ -214,7 +214,7 @@ fn range_of(args: &AimArgs) -> Result<(Range, Mode), Failure> {
         (Some(v), _, _) => Mode::Speed(v),
         (None, Some(e), _) => Mode::Elevation(e),
         (None, None, true) => Mode::MinSpeed,
-        (None, None, false) if args.scene.is_some() => Mode::Speed(scene.launcher.speed),
+        (None, None, false) if args.scene.is_some() => Mode::Speed(scene.launcher().speed),
         (None, None, false) => {
             return Err(fail(
                 EXIT_INPUT,
@@ -235,10 +235,10 @@ pub fn run(args: &AimArgs) -> Result<(), Failure> {
     let s = &range.scene;
     let mut text = format!(
         "{} at dt {} s x{} substep(s) on {}; from ({}) to ({})",
-        s.integrator.name(),
+        s.integrator().name(),
         s.dt(),
-        s.substeps,
-        s.name,
+        s.substeps(),
+        s.name(),
         vec3(range.from),
         vec3(range.target.center)
     );

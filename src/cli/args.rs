@@ -182,7 +182,7 @@ pub fn run_length(args: &RunArgs, scene: &Scene) -> Result<u64, Failure> {
             EXIT_INPUT,
             format!("--until: expected a finite time, got {t}"),
         )),
-        (None, None) => Ok(scene.ticks_until(scene.start_time + scene.duration)),
+        (None, None) => Ok(scene.ticks_until(scene.start_time() + scene.duration())),
     }
 }
 

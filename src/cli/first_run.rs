@@ -55,7 +55,7 @@ fn stepped(scene: &Scene, integrator: Integrator, ticks: u64) -> Result<World, F
         .set_integrator(integrator)
         .map_err(|e| fail(EXIT_ENVIRONMENT, format!("seed: {e}")))?;
     let mut sim = SimLoop::new(World::new(&scene));
-    sim.run_until(ticks, &mut VirtualClock::Steady(scene.timestep), &mut ())
+    sim.run_until(ticks, &mut VirtualClock::Steady(scene.timestep()), &mut ())
         .map_err(|e| fail(EXIT_ENVIRONMENT, format!("seed: {e}")))?;
     Ok(sim.world)
 }
@@ -63,26 +63,26 @@ fn stepped(scene: &Scene, integrator: Integrator, ticks: u64) -> Result<World, F
 /// The closed form of the seed's first body `t` seconds after tick 0.
 fn exact(scene: &Scene, t: f64) -> Result<volley::BodyState, Failure> {
     let body = scene
-        .bodies
+        .bodies()
         .first()
         .ok_or_else(|| fail(EXIT_ENVIRONMENT, "seed: no body"))?;
     let start = volley::BodyState {
         p: body.position,
         mv: body.mass * body.velocity,
     };
-    closed_form(&scene.forces, start, body.mass, t)
+    closed_form(&scene.forces(), start, body.mass, t)
         .ok_or_else(|| fail(EXIT_ENVIRONMENT, "seed: no closed form"))
 }
 
 fn worked_example(scene: &Scene) -> Result<(), Failure> {
-    let ticks = scene.ticks_until(scene.start_time + scene.duration);
+    let ticks = scene.ticks_until(scene.start_time() + scene.duration());
     println!(
         "The slides' worked example: explicit Euler at h = {} s from t = {:.2} s, a {} kg \
          projectile; position p (m), momentum mV (kg m/s), force F (N), velocity V (m/s), the \
          closed form's height z* (m) and the error |p - p*| (m).",
         scene.dt(),
-        scene.start_time,
-        scene.bodies[0].mass
+        scene.start_time(),
+        scene.bodies()[0].mass
     );
     println!(
         "{:>6} {:>7} {:>6} {:>7} {:>7} {:>6} {:>7} {:>6} {:>6} {:>7} {:>6} {:>6} {:>7} {:>8} {:>8}",
@@ -133,7 +133,7 @@ fn worked_example(scene: &Scene) -> Result<(), Failure> {
             (s.p - star.p).length()
         );
     }
-    let g = scene.forces.gravity.map_or(0.0, DVec3::length);
+    let g = scene.forces().gravity.map_or(0.0, DVec3::length);
     let span = ticks as f64 * scene.dt();
     println!(
         "Explicit Euler ends g T h / 2 = {:.4} m above the closed form after T = {span:.2} s: \
@@ -152,7 +152,7 @@ fn truncation(scene: &Scene) -> Result<(), Failure> {
         "{:>6} {:>12} {:>12} {:>12} {:>12}",
         "h (s)", "z Euler", "z exact", "error", "g h^2 / 2"
     );
-    let g = scene.forces.gravity.map_or(0.0, DVec3::length);
+    let g = scene.forces().gravity.map_or(0.0, DVec3::length);
     for h in [0.2, 0.1, 0.01] {
         let mut s = scene.clone();
         s.set_dt(h)
@@ -170,7 +170,7 @@ fn truncation(scene: &Scene) -> Result<(), Failure> {
 }
 
 fn comparison(scene: &Scene) -> Result<(), Failure> {
-    let ticks = scene.ticks_until(scene.start_time + scene.duration);
+    let ticks = scene.ticks_until(scene.start_time() + scene.duration());
     println!(
         "Every integrator on the seed at h = {} s over {ticks} ticks: the final position error \
          against the closed form, and the force evaluations the run cost (its steps, and the \
@@ -217,7 +217,7 @@ fn picture(scene: &Scene) {
 fn draw(scene: &Scene, path: &Path) -> Result<String, String> {
     let gpu = Gpu::headless().map_err(|e| e.to_string())?;
     let adapter = gpu.describe();
-    let ticks = scene.ticks_until(scene.start_time + scene.duration);
+    let ticks = scene.ticks_until(scene.start_time() + scene.duration());
     let worlds = volley::app::input::DEFAULT_COMPARE
         .iter()
         .map(|&i| stepped(scene, i, 0).map_err(|f| f.message))

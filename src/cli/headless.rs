@@ -74,7 +74,7 @@ pub fn run(args: &HeadlessArgs) -> Result<(), Failure> {
     }
     let outcome = match &args.frames {
         Some(dir) => {
-            let mut source = VirtualClock::Steady(scene.timestep);
+            let mut source = VirtualClock::Steady(scene.timestep());
             let size = args.size.as_deref();
             let mut frames = super::frames::writer(&sim.world, dir, size, args.frame_every)?;
             sim.run_until(ticks, &mut source, &mut (&mut table, &mut frames))

@@ -58,7 +58,7 @@ pub fn run(args: &RecordArgs) -> Result<(), Failure> {
          commands; final hash {}",
         stats.start_tick,
         stats.last_tick,
-        scene.name,
+        scene.name(),
         stats.bytes,
         stats.hashes,
         stats.keyframes,

@@ -25,7 +25,7 @@ pub fn run() -> Result<(), Failure> {
             .display()
             .to_string();
         let line = match scene::load(&path) {
-            Ok(s) => format!("{name:<28} {}", s.description),
+            Ok(s) => format!("{name:<28} {}", s.description()),
             Err(e) => format!("{name:<28} (does not load: {e})"),
         };
         writeln!(out, "{line}").map_err(|e| fail(EXIT_ENVIRONMENT, e))?;

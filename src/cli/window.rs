@@ -213,7 +213,7 @@ fn open(args: &WindowArgs) -> Result<Result<RunSummary, AppError>, Failure> {
     let compare = match &args.compare {
         Some(list) => runnable(parse_compare(&list.join(","))?, &scene)?,
         // A saved setup opens in its own compare lanes (the scene file checked them).
-        None => scene.compare.clone(),
+        None => scene.compare().to_vec(),
     };
     let options = WindowOptions {
         compare,

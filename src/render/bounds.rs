@@ -60,23 +60,30 @@ impl SceneBounds {
     /// from the launcher go over the scene's duration: a short preview run of the scene with at
     /// most 64 bodies, stopped at the ground, a divergence, or 4000 ticks.
     pub fn of_scene(scene: &Scene) -> SceneBounds {
-        let launcher = scene.launcher.position;
+        let launcher = scene.launcher().position;
         let mut bounds = SceneBounds::point(launcher);
-        for t in &scene.targets {
+        for t in scene.targets() {
             bounds.include(t.center - DVec3::splat(t.radius));
             bounds.include(t.center + DVec3::splat(t.radius));
         }
-        for w in &scene.walls {
+        for w in scene.walls() {
             bounds.include(w.point);
         }
-        let mut preview = scene.clone();
-        preview.bodies.truncate(PREVIEW_BODIES as usize);
-        if let Some(v) = preview.volley.as_mut() {
-            v.count = v.count.min(PREVIEW_BODIES);
+        let bodies = scene.bodies();
+        let mut edit = scene
+            .edit()
+            .bodies(bodies[..bodies.len().min(PREVIEW_BODIES as usize)].to_vec());
+        if let Some(v) = scene.volley() {
+            edit = edit.volley(crate::scene::Volley {
+                count: v.count.min(PREVIEW_BODIES),
+                ..v
+            });
         }
+        // Fewer bodies of a checked scene check too; the scene itself if not.
+        let preview = edit.build().unwrap_or_else(|_| scene.clone());
         let mut world = World::new(&preview);
         let _ = world.apply(&Command::Fire);
-        let ticks = preview.ticks_until(preview.start_time + preview.duration);
+        let ticks = preview.ticks_until(preview.start_time() + preview.duration());
         for _ in 0..=ticks.min(PREVIEW_TICKS) {
             let b = world.bodies();
             for i in 0..b.len() {
@@ -89,7 +96,7 @@ impl SceneBounds {
                 break;
             }
         }
-        if let Some(g) = scene.ground {
+        if let Some(g) = scene.ground() {
             bounds.min.z = bounds.min.z.max(g.height);
             bounds.include(DVec3::new(bounds.min.x, bounds.min.y, g.height));
         }

@@ -545,7 +545,7 @@ pub fn launcher_shot(world: &World, l: &Launcher) -> crate::render::reference::R
 /// How long a drawn trajectory (a ghost, the launcher's predicted shot) runs: the scene's
 /// duration, at least 1 s.
 pub fn horizon(world: &World) -> f64 {
-    world.scene().duration.max(1.0)
+    world.scene().duration().max(1.0)
 }
 
 /// How far a drawn trajectory's chord may leave the path, as a fraction of the scene's scale

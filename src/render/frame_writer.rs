@@ -126,7 +126,7 @@ pub fn write_picture(
     let mut lanes = Vec::with_capacity(worlds.len());
     for world in worlds {
         let mut history = TickHistory::new(&world, bounds.center());
-        let step = world.scene().timestep;
+        let step = world.scene().timestep();
         let mut sim = SimLoop::new(world);
         sim.run_until(
             ticks,

@@ -155,7 +155,7 @@ fn a_divergence_inside_a_loop_batch_leaves_the_clock_on_the_worlds_tick() {
     assert_eq!(sim.clock.tick(), d.tick, "the unrun ticks went back");
     // A stopped world's next frame runs no tick, and the clock does not count one.
     let again = sim
-        .frame(s.timestep, &mut ())
+        .frame(s.timestep(), &mut ())
         .expect_err("it stays stopped");
     assert_eq!(again, volley::LoopError::Diverged(d));
     assert_eq!(sim.clock.tick(), d.tick);
@@ -180,7 +180,7 @@ fn unstable(guard_every: u32) -> Scene {
         BODIES,
         guard_every,
     );
-    s.timestep = std::time::Duration::from_millis(50);
+    s.set_dt(0.05).unwrap();
     s
 }
 
@@ -312,7 +312,7 @@ fn the_loop_batches_between_commands_and_needed_ticks_without_changing_them() {
             seen.calls,
         )
     };
-    let steady = VirtualClock::Steady(s.timestep);
+    let steady = VirtualClock::Steady(s.timestep());
     let (every_tick, final_hash, evals, calls) = run(1, &mut steady.clone(), false);
     assert_eq!((every_tick.len(), calls), (300, 300));
     for every in [1, 10, 64, 1000] {
@@ -350,7 +350,7 @@ fn a_recording_hashing_every_tenth_tick_is_the_same_file_batched_or_not() {
         let mut source = if unpaced {
             sim.unpaced_source(64)
         } else {
-            VirtualClock::Steady(s.timestep)
+            VirtualClock::Steady(s.timestep())
         };
         sim.run_until(200, &mut source, &mut recorder)
             .expect("no divergence");

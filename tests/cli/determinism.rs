@@ -17,7 +17,7 @@ const SEED_HASH_AT_27: &str = "0xe02a9ef4a1ddb321";
 fn seed_scene_hash_is_pinned() {
     let scene = scene::load(Path::new("assets/scenes/seed.ron")).unwrap();
     let mut sim = SimLoop::new(World::new(&scene));
-    sim.run_until(27, &mut VirtualClock::Steady(scene.timestep), &mut ())
+    sim.run_until(27, &mut VirtualClock::Steady(scene.timestep()), &mut ())
         .unwrap();
     assert_eq!(hex(state_hash(&sim.world)), SEED_HASH_AT_27);
 }
@@ -104,7 +104,7 @@ fn the_new_integrators_hashes_are_pinned() {
         let mut scene = scene::load(Path::new("tests/data/replay_scene.ron")).unwrap();
         scene.set_integrator(integrator).unwrap();
         let mut sim = SimLoop::new(World::new(&scene));
-        sim.run_until(300, &mut VirtualClock::Steady(scene.timestep), &mut ())
+        sim.run_until(300, &mut VirtualClock::Steady(scene.timestep()), &mut ())
             .unwrap();
         got.push((integrator, hex(state_hash(&sim.world))));
     }

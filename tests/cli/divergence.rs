@@ -54,7 +54,11 @@ fn run_with_light_body(volley: u32, every: u32, threads: usize) -> (Divergence, 
         command: light_body(),
     }]);
     let mut seen = Seen::default();
-    let result = sim.run_until(10_000, &mut VirtualClock::Steady(scene.timestep), &mut seen);
+    let result = sim.run_until(
+        10_000,
+        &mut VirtualClock::Steady(scene.timestep()),
+        &mut seen,
+    );
     match result {
         Err(LoopError::Diverged(d)) => (d, seen, sim.world),
         other => panic!("expected a divergence, got {other:?}"),

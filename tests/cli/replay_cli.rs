@@ -90,7 +90,7 @@ fn a_divergent_recording_exits_1_naming_tick_body_and_field() {
     let file = temp("nudged.vrec");
     let scene = coverage_scene();
     let mut sim = volley::SimLoop::new(volley::World::new(&scene));
-    let mut source = volley::clock::VirtualClock::Steady(scene.timestep);
+    let mut source = volley::clock::VirtualClock::Steady(scene.timestep());
     let mut recorder =
         volley::replay::Recorder::start(Vec::new(), &sim.world, options(1, 10)).unwrap();
     sim.run_until(20, &mut source, &mut recorder).unwrap();

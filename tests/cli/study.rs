@@ -48,7 +48,7 @@ fn euler_errors_on_the_seed_are_g_t_h_over_2_and_of_order_one() {
         ReferenceKind::ExactFlow,
         "the seed has a ground and a target"
     );
-    let span = scene.duration; // 5.4 s: 27, 54 and 108 ticks exactly
+    let span = scene.duration(); // 5.4 s: 27, 54 and 108 ticks exactly
     for dt in dts {
         for i in [ExplicitEuler, SemiImplicitEuler] {
             let e = point(&r, i, dt).errors.unwrap();
@@ -91,7 +91,7 @@ fn force_evaluations_are_counted_per_stage() {
     ];
     let r = study(&scene, &integrators, &[1.0 / 60.0, 1.0 / 120.0]);
     for p in &r.points {
-        let per_step = p.integrator.evals_per_step(&scene.forces);
+        let per_step = p.integrator.evals_per_step(&scene.forces());
         assert_eq!(p.force_evals, p.ticks * per_step, "{}", p.integrator);
         let expected = per_step as f64 / p.dt;
         assert!(

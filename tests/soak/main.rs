@@ -80,7 +80,7 @@ fn the_window_session_in_four_lanes_recording_stays_within_its_memory_budgets() 
     let dir = scratch("session");
     let file = dir.join("soak.vrec");
     session.start_recording(Some(file.clone())).unwrap();
-    let frame = session.scene().timestep;
+    let frame = session.scene().timestep();
     assert_eq!(frame, Duration::from_nanos(16_666_667), "60 Hz frames");
     let ticks = soak_seconds() * 60;
     // After the first 10 s: the one-time allocations (first frames, buffers) are made, and the

@@ -76,8 +76,12 @@ fn the_seed_scene_at_tick_10_matches_its_golden_image() {
     let bounds = SceneBounds::of_scene(&scene);
     let mut sim = SimLoop::new(World::new(&scene));
     let mut history = TickHistory::new(&sim.world, bounds.center());
-    sim.run_until(10, &mut VirtualClock::Steady(scene.timestep), &mut history)
-        .unwrap();
+    sim.run_until(
+        10,
+        &mut VirtualClock::Steady(scene.timestep()),
+        &mut history,
+    )
+    .unwrap();
     let size = (480, 270);
     let options = DrawOptions::picture(bounds.center(), bounds.radius());
     let camera = OrbitCamera::framing(&bounds, 480.0 / 270.0);
@@ -204,7 +208,7 @@ fn frames_reuse_their_buffers_and_draw_every_lane_in_one_instance_list() {
         .into_iter()
         .map(|i| {
             let mut s = scene.clone();
-            s.integrator = i;
+            s.set_integrator(i).unwrap();
             let sim = SimLoop::new(World::new(&s));
             let history = TickHistory::new(&sim.world, bounds.center());
             (sim, history)
@@ -221,7 +225,7 @@ fn frames_reuse_their_buffers_and_draw_every_lane_in_one_instance_list() {
     let mut allocations = Vec::new();
     for tick in 1..=20 {
         for (sim, history) in &mut sims {
-            sim.run_until(tick, &mut VirtualClock::Steady(scene.timestep), history)
+            sim.run_until(tick, &mut VirtualClock::Steady(scene.timestep()), history)
                 .unwrap();
         }
         let lanes: Vec<Lane<'_>> = sims

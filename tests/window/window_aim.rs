@@ -83,9 +83,10 @@ fn in_compare_mode_each_lane_aims_for_itself_and_hits() {
 fn aiming_at_a_moving_target_leads_it() {
     // The wind scene (quadratic drag and a crosswind) with its target moving.
     let path = support::crate_path("assets/scenes/wind.ron");
-    let mut scene = scene::load(&path).unwrap();
-    scene.targets[0].velocity = glam::DVec3::new(-2.0, 1.5, 0.0);
-    scene.volley = None;
+    let scene = scene::load(&path).unwrap();
+    let mut targets = scene.targets().to_vec();
+    targets[0].velocity = glam::DVec3::new(-2.0, 1.5, 0.0);
+    let scene = scene.edit().targets(targets).no_volley().build().unwrap();
     let mut s = Session::new(
         scene,
         &path,
@@ -107,8 +108,12 @@ fn a_scene_without_targets_says_so_and_a_failed_solve_fires_nothing() {
     assert!(e.contains("no target 0"), "{e}");
     // 5 m/s cannot reach the seed's target: the note says why and nothing is fired.
     let path = support::crate_path("assets/scenes/seed.ron");
-    let mut scene = scene::load(&path).unwrap();
-    scene.launcher.speed = 5.0;
+    let scene = scene::load(&path).unwrap();
+    let launcher = volley::Launcher {
+        speed: 5.0,
+        ..scene.launcher()
+    };
+    let scene = scene.edit().launcher(launcher).build().unwrap();
     let mut s = Session::new(scene, &path, Vec::new());
     let bodies = s.world().bodies().len();
     s.aim(Arc::High, 0).unwrap();

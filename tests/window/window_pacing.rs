@@ -47,7 +47,7 @@ fn play(session: &mut Session, display: &SweepDisplay, frames: usize) {
 fn switching_the_loop_policy_live_never_changes_what_a_tick_computes() {
     // The reference: the orbit one tick a frame, hashed at every tick.
     let mut reference = session("orbit");
-    let step = reference.scene().timestep;
+    let step = reference.scene().timestep();
     let mut hashes = vec![state_hash(reference.world())];
     for _ in 0..700 {
         reference.frame(step);
@@ -171,7 +171,7 @@ fn on_a_59_94_hz_display_interpolation_is_one_tick_behind_extrapolation_and_pred
 #[test]
 fn the_cadence_and_the_swings_count_frames_of_no_tick_beside_frames_of_two() {
     let mut s = session("orbit");
-    let h = s.scene().timestep;
+    let h = s.scene().timestep();
     for k in 0..100 {
         s.frame(if k % 2 == 0 { Duration::ZERO } else { 2 * h });
     }

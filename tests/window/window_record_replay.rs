@@ -276,7 +276,7 @@ fn record_coverage(name: &str, ticks: u64) -> (PathBuf, u64, usize) {
     sim.schedule(replay_support::coverage_commands());
     let out = std::fs::File::create(&file).unwrap();
     let mut recorder = Recorder::start(out, &sim.world, replay_support::options(1, 50)).unwrap();
-    let mut source = VirtualClock::Steady(scene.timestep);
+    let mut source = VirtualClock::Steady(scene.timestep());
     sim.run_until(ticks, &mut source, &mut recorder).unwrap();
     recorder.finish(&sim.world).unwrap();
     (file, state_hash(&sim.world), sim.world.bodies().len())
@@ -287,7 +287,7 @@ fn a_replay_in_the_window_runs_the_recorded_commands_and_verifies_every_tick() {
     let (file, hash, bodies) = record_coverage("replay-window", 300);
     let mut session = Session::for_replay(&file, None).unwrap();
     assert!(session.is_embedded());
-    assert_eq!(session.scene().name, "replay");
+    assert_eq!(session.scene().name(), "replay");
     session.set_time_scale(2.0).unwrap();
     for _ in 0..400 {
         session.frame(HZ60);
@@ -366,7 +366,7 @@ fn a_replay_that_parts_from_its_recording_pauses_and_names_the_tick() {
     let file = support::scratch_dir("parted").join("nudged.vrec");
     let scene = replay_support::coverage_scene();
     let mut sim = SimLoop::new(World::new(&scene));
-    let mut source = VirtualClock::Steady(scene.timestep);
+    let mut source = VirtualClock::Steady(scene.timestep());
     let out = std::fs::File::create(&file).unwrap();
     let mut recorder = Recorder::start(out, &sim.world, replay_support::options(1, 10)).unwrap();
     sim.run_until(20, &mut source, &mut recorder).unwrap();

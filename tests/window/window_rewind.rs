@@ -116,7 +116,7 @@ fn playing_backwards_goes_back_at_the_time_scale_and_stops_at_the_start() {
     for _ in 0..25 {
         s.frame(FRAME);
     }
-    let back = (500_000_000 / s.scene().timestep.as_nanos()) as u64;
+    let back = (500_000_000 / s.scene().timestep().as_nanos()) as u64;
     assert_eq!(s.world().tick(), 90 - back);
     s.set_time_scale(10.0).unwrap();
     for _ in 0..100 {

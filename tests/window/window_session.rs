@@ -50,7 +50,7 @@ fn changing_dt_restarts_at_tick_0_with_the_new_step() {
     session.frame(FRAME);
     let world = session.world();
     assert_eq!(world.tick(), 2);
-    assert_eq!(world.time(), world.scene().start_time + 2.0 * 0.05);
+    assert_eq!(world.time(), world.scene().start_time() + 2.0 * 0.05);
     assert!(session.set_dt(-1.0).is_err(), "a negative step is refused");
 }
 
@@ -177,7 +177,7 @@ fn in_compare_mode_reset_after_a_divergence_restarts_every_lane_at_tick_0() {
         "semi-implicit Euler is stable at w h = 1.667"
     );
     // The stable lane ran its whole frame before the pause (100 ms of 16.666667 ms ticks).
-    let ticks = FRAME.as_nanos() / stiff_spring().timestep.as_nanos();
+    let ticks = FRAME.as_nanos() / stiff_spring().timestep().as_nanos();
     assert_eq!(u128::from(lanes[1].sim.world.tick()), ticks);
     assert!(session.is_paused());
     session.reset().unwrap();

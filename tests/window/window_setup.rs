@@ -32,12 +32,15 @@ fn a_saved_setup_steps_to_the_same_hash_headless_as_the_setup_it_was_saved_from(
     let file = s.save_setup(&dir).unwrap();
 
     // The same setup made by hand from the original scene.
-    let mut expect = original;
+    let launcher = volley::Launcher {
+        speed: 25.0,
+        elevation_deg: 60.0,
+        azimuth_deg: 5.0,
+        ..original.launcher()
+    };
+    let mut expect = original.edit().launcher(launcher).build().unwrap();
     expect.set_dt(0.05).unwrap();
     expect.set_integrator(Integrator::Rk4).unwrap();
-    expect.launcher.speed = 25.0;
-    expect.launcher.elevation_deg = 60.0;
-    expect.launcher.azimuth_deg = 5.0;
     let mut by_hand = World::new(&expect);
     by_hand.step_ticks(TICKS).unwrap();
     // Fire from the saved launcher too, so the launcher is part of what is compared.
@@ -87,7 +90,7 @@ fn a_saved_compare_setup_opens_the_window_in_its_lanes() {
     ];
     let s = Session::new(scene::load(&path).unwrap(), &path, lanes);
     let file = s.save_setup(&dir).unwrap();
-    assert_eq!(scene::load(&file).unwrap().compare, s.compare_lanes());
+    assert_eq!(scene::load(&file).unwrap().compare(), s.compare_lanes());
     let args = [
         "window",
         file.to_str().unwrap(),

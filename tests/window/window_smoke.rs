@@ -265,7 +265,7 @@ fn a_window_replay_that_parts_from_its_recording_exits_1_with_the_report() {
     let file = support::scratch_dir("parted-window").join("nudged.vrec");
     let scene = volley::scene::load(&support::crate_path("tests/data/replay_scene.ron")).unwrap();
     let mut sim = volley::SimLoop::new(volley::World::new(&scene));
-    let mut source = volley::clock::VirtualClock::Steady(scene.timestep);
+    let mut source = volley::clock::VirtualClock::Steady(scene.timestep());
     let out = std::fs::File::create(&file).unwrap();
     let options = volley::replay::RecordOptions {
         keyframe_every: 10,

@@ -52,7 +52,7 @@ fn main() {
     // The scene's duration in frames: the clock turns each 6.94 ms frame into the whole ticks of
     // the scene's timestep it has accumulated and keeps the remainder, so sim time stays exactly
     // start_time + tick * dt.
-    let frames = (scene.duration * 144.0).ceil() as u32;
+    let frames = (scene.duration() * 144.0).ceil() as u32;
     for frame in 0..frames {
         if frame == 144 {
             // Input from game code: applied at the next tick boundary, as a recording sees it.

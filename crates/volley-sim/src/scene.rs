@@ -67,51 +67,182 @@ pub const MAX_TICK_WORK: u64 = 100_000_000;
 pub const MAX_COMPARE_LANES: usize = 16;
 
 /// A scene after parsing and validation; everything a [`crate::World`] is built from.
+///
+/// Checked once and never changed after: its fields are read through methods, and a change
+/// goes through [`Scene::edit`] (a builder seeded with the scene, whose `build` checks it again
+/// and writes its [`Scene::source`] anew) or a setter that checks its one value. So the text a
+/// recording embeds is always the scene the run stepped, and a replay of it cannot part from
+/// the run because the scene was changed behind the text's back.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
     /// Short name (defaults to the file stem).
-    pub name: String,
+    pub(crate) name: String,
     /// One line on what the scene shows.
-    pub description: String,
+    pub(crate) description: String,
     /// The scene file's text, verbatim (recordings embed it).
-    pub source: String,
+    pub(crate) source: String,
     /// Fixed timestep, in whole nanoseconds; the physics step `h` is exactly this.
-    pub timestep: Duration,
+    pub(crate) timestep: Duration,
     /// Sim time (s) of tick 0; the time of tick n is `start_time + n * h`.
-    pub start_time: f64,
+    pub(crate) start_time: f64,
     /// Sim time (s) a headless run covers unless told otherwise (default 10 s).
-    pub duration: f64,
+    pub(crate) duration: f64,
     /// Integrator unless a run overrides it.
-    pub integrator: Integrator,
+    pub(crate) integrator: Integrator,
     /// Integrator steps per tick (each `h / substeps` long). 1 unless stiffness asks for more.
-    pub substeps: u32,
+    pub(crate) substeps: u32,
     /// Error tolerance of the adaptive integrator ([`Integrator::Dopri5`]), from
     /// [`MIN_TOLERANCE`] to 1 (default [`crate::integrate::DEFAULT_TOLERANCE`]); the fixed-step
     /// integrators ignore it.
-    pub tolerance: f64,
+    pub(crate) tolerance: f64,
     /// Declared force terms.
-    pub forces: Forces,
+    pub(crate) forces: Forces,
     /// Ground plane, if any.
-    pub ground: Option<Ground>,
+    pub(crate) ground: Option<Ground>,
     /// Thin walls (slabs).
-    pub walls: Vec<Wall>,
+    pub(crate) walls: Vec<Wall>,
     /// Target spheres.
-    pub targets: Vec<Target>,
+    pub(crate) targets: Vec<Target>,
     /// Swept (time of impact inside the step) or discrete (overlap at the end of the step).
-    pub detection: Detection,
+    pub(crate) detection: Detection,
     /// Bodies present at tick 0, in id order.
-    pub bodies: Vec<BodySpec>,
+    pub(crate) bodies: Vec<BodySpec>,
     /// Where fired projectiles start and how they are launched.
-    pub launcher: Launcher,
+    pub(crate) launcher: Launcher,
     /// Extra bodies fired at tick 0 from the launcher with seeded random spread.
-    pub volley: Option<Volley>,
+    pub(crate) volley: Option<Volley>,
     /// Seed of the world's random number generator.
-    pub seed: u64,
+    pub(crate) seed: u64,
     /// Divergence guard settings.
-    pub guard: Guard,
+    pub(crate) guard: Guard,
     /// Lanes the window opens in compare mode (empty: one lane); headless runs ignore it and
     /// step [`Scene::integrator`].
-    pub compare: Vec<CompareLane>,
+    pub(crate) compare: Vec<CompareLane>,
+}
+
+impl Scene {
+    /// Short name (defaults to the file stem).
+    #[inline]
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// One line on what the scene shows.
+    #[inline]
+    pub fn description(&self) -> &str {
+        &self.description
+    }
+
+    /// The scene file's text, verbatim (recordings embed it).
+    #[inline]
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// Fixed timestep, in whole nanoseconds; the physics step `h` is exactly this.
+    #[inline]
+    pub fn timestep(&self) -> Duration {
+        self.timestep
+    }
+
+    /// Sim time (s) of tick 0; the time of tick n is `start_time + n * h`.
+    #[inline]
+    pub fn start_time(&self) -> f64 {
+        self.start_time
+    }
+
+    /// Sim time (s) a headless run covers unless told otherwise (default 10 s).
+    #[inline]
+    pub fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// Integrator unless a run overrides it.
+    #[inline]
+    pub fn integrator(&self) -> Integrator {
+        self.integrator
+    }
+
+    /// Integrator steps per tick (each `h / substeps` long). 1 unless stiffness asks for more.
+    #[inline]
+    pub fn substeps(&self) -> u32 {
+        self.substeps
+    }
+
+    /// Error tolerance of the adaptive integrator ([`Integrator::Dopri5`]), from
+    /// [`MIN_TOLERANCE`] to 1 (default [`crate::integrate::DEFAULT_TOLERANCE`]); the fixed-step
+    /// integrators ignore it.
+    #[inline]
+    pub fn tolerance(&self) -> f64 {
+        self.tolerance
+    }
+
+    /// Declared force terms.
+    #[inline]
+    pub fn forces(&self) -> &Forces {
+        &self.forces
+    }
+
+    /// Ground plane, if any.
+    #[inline]
+    pub fn ground(&self) -> Option<Ground> {
+        self.ground
+    }
+
+    /// Thin walls (slabs).
+    #[inline]
+    pub fn walls(&self) -> &[Wall] {
+        &self.walls
+    }
+
+    /// Target spheres.
+    #[inline]
+    pub fn targets(&self) -> &[Target] {
+        &self.targets
+    }
+
+    /// Swept (time of impact inside the step) or discrete (overlap at the end of the step).
+    #[inline]
+    pub fn detection(&self) -> Detection {
+        self.detection
+    }
+
+    /// Bodies present at tick 0, in id order.
+    #[inline]
+    pub fn bodies(&self) -> &[BodySpec] {
+        &self.bodies
+    }
+
+    /// Where fired projectiles start and how they are launched.
+    #[inline]
+    pub fn launcher(&self) -> Launcher {
+        self.launcher
+    }
+
+    /// Extra bodies fired at tick 0 from the launcher with seeded random spread.
+    #[inline]
+    pub fn volley(&self) -> Option<Volley> {
+        self.volley
+    }
+
+    /// Seed of the world's random number generator.
+    #[inline]
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// Divergence guard settings.
+    #[inline]
+    pub fn guard(&self) -> Guard {
+        self.guard
+    }
+
+    /// Lanes the window opens in compare mode (empty: one lane); headless runs ignore it and
+    /// step [`Scene::integrator`].
+    #[inline]
+    pub fn compare(&self) -> &[CompareLane] {
+        &self.compare
+    }
 }
 
 /// One lane of compare mode: an integrator, and its own dt and substeps where given (else the
@@ -161,6 +292,14 @@ impl CompareLane {
 }
 
 impl Scene {
+    /// Whether `other` is this scene in everything a world is built from: every field but
+    /// the [`Scene::source`] text (a saved setup reads back to the same scene in other words).
+    pub fn same_as(&self, other: &Scene) -> bool {
+        let mut copy = other.clone();
+        copy.source.clone_from(&self.source);
+        *self == copy
+    }
+
     /// Overrides the integrator, refusing `exact` where a declared force has no closed form.
     pub fn set_integrator(&mut self, integrator: Integrator) -> Result<(), IntegratorError> {
         check_integrator(integrator, &self.forces)?;

@@ -85,7 +85,7 @@ fn allocations_after_warm_up(scene: &Scene, threads: usize, record: bool) -> u64
         let mut world = World::new(scene);
         world.set_threads(threads);
         let mut sim = SimLoop::new(world);
-        let dt = scene.timestep;
+        let dt = scene.timestep();
         let options = RecordOptions {
             keyframe_every: 100,
             flush: FlushPolicy::OnFinish,

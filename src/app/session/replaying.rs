@@ -247,7 +247,7 @@ impl SessionReplay {
         }
         let (mut verifier, mut sim) = Verifier::start(recording, seek)?;
         if let Some(tick) = seek {
-            let mut source = VirtualClock::Steady(verifier.scene().timestep);
+            let mut source = VirtualClock::Steady(verifier.scene().timestep());
             verifier.run_to(&mut sim, &mut source, tick, &mut ())?;
         }
         let replay = SessionReplay {

@@ -37,11 +37,11 @@ impl Session {
             return Some((0, replay.end_tick()));
         }
         // In the first lane's ticks; lanes with their own dt follow it by sim time.
-        let h0 = self.lanes[0].sim.world.scene().timestep.as_nanos();
+        let h0 = self.lanes[0].sim.world.scene().timestep().as_nanos();
         let mut range = (0, u64::MAX);
         for lane in &self.lanes {
             let t = lane.history.timeline.as_ref()?;
-            let h = lane.sim.world.scene().timestep.as_nanos();
+            let h = lane.sim.world.scene().timestep().as_nanos();
             let to_first = |tick: u64| (u128::from(tick) * h / h0.max(1)) as u64;
             range = (
                 range.0.max(to_first(t.start())),
@@ -78,13 +78,13 @@ impl Session {
         }
         // `tick` is the first lane's; a lane with its own dt goes to its last tick at or
         // before the same sim time.
-        let h0 = self.lanes[0].sim.world.scene().timestep.as_nanos();
+        let h0 = self.lanes[0].sim.world.scene().timestep().as_nanos();
         let mut refused = Ok(());
         for lane in &mut self.lanes {
             let Some(timeline) = lane.history.timeline.as_mut() else {
                 continue;
             };
-            let h = lane.sim.world.scene().timestep.as_nanos();
+            let h = lane.sim.world.scene().timestep().as_nanos();
             let own = if h == h0 {
                 tick
             } else {
@@ -159,7 +159,7 @@ impl Session {
         };
         let scaled = Duration::from_secs_f64(delta.as_secs_f64() * self.clock.time_scale);
         let owed = owed + scaled;
-        let step = self.lanes[0].sim.world.scene().timestep;
+        let step = self.lanes[0].sim.world.scene().timestep();
         let ticks = (owed.as_nanos() / step.as_nanos().max(1)) as u64;
         let left = owed - step * ticks.min(u64::from(u32::MAX)) as u32;
         let now = self.world().tick();

@@ -31,30 +31,43 @@ impl Session {
     /// scene does not have.
     pub fn move_target(&mut self, index: usize, center: glam::DVec3) -> Result<(), String> {
         self.refuse_while_replaying("moving a target")?;
-        let Some(target) = self.scene.targets.get_mut(index) else {
+        let mut targets = self.scene.targets().to_vec();
+        let Some(target) = targets.get_mut(index) else {
             return Err(format!("no target {index}"));
         };
         target.center = center;
-        self.scene.launcher = *self.lanes[0].sim.world.launcher();
+        self.scene = self
+            .scene
+            .edit()
+            .targets(targets)
+            .launcher(*self.lanes[0].sim.world.launcher())
+            .build()
+            .map_err(|e| e.to_string())?;
         self.restart(None, &format!("target {index} moved"))
     }
 
     /// The setup as a scene: the scene with the first lane's launcher, integrator and force
     /// terms as they are now, the current dt and substeps, and the compare lanes. Its bodies
     /// and volley are the scene's own (a setup is where a run starts, not where it got to).
-    pub fn setup(&self) -> crate::scene::Scene {
+    pub fn setup(&self) -> Result<crate::scene::Scene, String> {
         let world = self.world();
-        let mut scene = self.scene.clone();
-        scene.launcher = *world.launcher();
-        scene.integrator = world.integrator();
-        scene.compare = self.compare.clone();
+        let mut scene = self
+            .scene
+            .edit()
+            .launcher(*world.launcher())
+            .compare(self.compare.clone())
+            .build()
+            .map_err(|e| e.to_string())?;
         scene
+            .set_integrator(world.integrator())
+            .map_err(|e| e.to_string())?;
+        Ok(scene)
     }
 
     /// Writes [`Session::setup`] as `DIR/setups/SCENE-tickN.ron` and returns the path. A
     /// browser page, which writes no files, offers it as a download of that name instead.
     pub fn save_setup(&self, dir: &std::path::Path) -> Result<std::path::PathBuf, String> {
-        let setup = self.setup();
+        let setup = self.setup()?;
         #[cfg(target_arch = "wasm32")]
         {
             let _ = dir;
@@ -67,7 +80,7 @@ impl Session {
         {
             let folder = dir.join("setups");
             std::fs::create_dir_all(&folder).map_err(|e| format!("{}: {e}", folder.display()))?;
-            let name = setup.name.replace([' ', '/'], "_");
+            let name = setup.name().replace([' ', '/'], "_");
             let path = folder.join(format!("{name}-tick{}.ron", self.world().tick()));
             std::fs::write(&path, setup.to_ron())
                 .map_err(|e| format!("{}: {e}", path.display()))?;

@@ -51,7 +51,7 @@ pub fn suite() -> Vec<String> {
             MAX_TICKS
         };
         let ticks = scene
-            .ticks_until(scene.start_time + scene.duration)
+            .ticks_until(scene.start_time() + scene.duration())
             .min(limit);
         for integrator in Integrator::ALL {
             lines.push(format!(
@@ -70,7 +70,7 @@ fn run(scene: &volley_sim::Scene, integrator: Integrator, ticks: u64) -> String 
     if let Err(e) = scene.set_integrator(integrator) {
         return format!("refused: {e}");
     }
-    let frame: Duration = scene.timestep;
+    let frame: Duration = scene.timestep();
     let mut sim = SimLoop::new(World::new(&scene));
     let ended = sim.run_until(ticks, &mut VirtualClock::Steady(frame), &mut ());
     let at = sim.world.tick();

@@ -70,7 +70,53 @@ impl Scene {
     }
 }
 
+impl Scene {
+    /// A builder seeded with this scene (its values, its game's own terms), for a change that
+    /// is checked again as a whole: `build` writes the edited scene as scene-file text, reads
+    /// it back with the same checks as a file, and makes that text the new scene's
+    /// [`Scene::source`], so a recording of the edited scene replays as it ran.
+    ///
+    /// ```
+    /// use volley_sim::{Ground, bundled_scene};
+    ///
+    /// let bounce = bundled_scene("bounce")?;
+    /// let softer = bounce
+    ///     .edit()
+    ///     .ground(Ground { height: 0.0, restitution: 0.3 })
+    ///     .build()?;
+    /// assert_eq!(softer.ground().unwrap().restitution, 0.3);
+    /// assert!(softer.source().contains("restitution: 0.3"));
+    /// // A bad value is refused as a file's would be, naming the field.
+    /// let err = bounce.edit().ground(Ground { height: 0.0, restitution: 2.0 }).build();
+    /// assert!(err.unwrap_err().to_string().contains("ground.restitution"));
+    /// # Ok::<(), volley_sim::SceneError>(())
+    /// ```
+    pub fn edit(&self) -> SceneBuilder {
+        let mut terms = ForceTerms::new();
+        for c in &self.forces.custom {
+            terms.add(std::sync::Arc::clone(&c.0));
+        }
+        SceneBuilder {
+            scene: self.clone(),
+            dt: self.dt(),
+            terms,
+        }
+    }
+}
+
 impl SceneBuilder {
+    /// The scene's short name.
+    pub fn name(mut self, name: &str) -> Self {
+        self.scene.name = name.to_string();
+        self
+    }
+
+    /// The timestep (s), rounded to whole nanoseconds when built.
+    pub fn dt(mut self, dt: f64) -> Self {
+        self.dt = dt;
+        self
+    }
+
     /// One line on what the scene shows.
     pub fn description(mut self, text: &str) -> Self {
         self.scene.description = text.to_string();
@@ -113,8 +159,12 @@ impl SceneBuilder {
         self
     }
 
-    /// Every force term at once.
+    /// Every force term at once (a game's own among them are resolved by the terms
+    /// themselves: they are kept for `build`).
     pub fn forces(mut self, forces: Forces) -> Self {
+        for c in &forces.custom {
+            self.terms.add(std::sync::Arc::clone(&c.0));
+        }
         self.scene.forces = forces;
         self
     }
@@ -183,6 +233,42 @@ impl SceneBuilder {
     /// The ground plane.
     pub fn ground(mut self, ground: Ground) -> Self {
         self.scene.ground = Some(ground);
+        self
+    }
+
+    /// No ground plane.
+    pub fn no_ground(mut self) -> Self {
+        self.scene.ground = None;
+        self
+    }
+
+    /// These walls instead of the scene's.
+    pub fn walls(mut self, walls: Vec<Wall>) -> Self {
+        self.scene.walls = walls;
+        self
+    }
+
+    /// These targets instead of the scene's.
+    pub fn targets(mut self, targets: Vec<Target>) -> Self {
+        self.scene.targets = targets;
+        self
+    }
+
+    /// These bodies at tick 0 instead of the scene's.
+    pub fn bodies(mut self, bodies: Vec<BodySpec>) -> Self {
+        self.scene.bodies = bodies;
+        self
+    }
+
+    /// No volley.
+    pub fn no_volley(mut self) -> Self {
+        self.scene.volley = None;
+        self
+    }
+
+    /// The lanes the window opens in compare mode.
+    pub fn compare(mut self, lanes: Vec<CompareLane>) -> Self {
+        self.scene.compare = lanes;
         self
     }
 

@@ -34,7 +34,7 @@ fn record_nudged(
     opts: volley_sim::internals::replay::RecordOptions,
 ) -> Vec<u8> {
     let mut sim = SimLoop::new(World::new(scene));
-    let mut source = VirtualClock::Steady(scene.timestep);
+    let mut source = VirtualClock::Steady(scene.timestep());
     let mut recorder = Recorder::start(Vec::new(), &sim.world, opts).unwrap();
     sim.run_until(nudge, &mut source, &mut recorder).unwrap();
     nudge_body_1(&mut sim.world);
@@ -51,7 +51,7 @@ fn nudge_body_1(world: &mut World) {
 /// The world after `ticks`, optionally nudged as [`record_nudged`] does.
 fn run(scene: &Scene, ticks: u64, nudge: Option<u64>) -> World {
     let mut sim = SimLoop::new(World::new(scene));
-    let mut source = VirtualClock::Steady(scene.timestep);
+    let mut source = VirtualClock::Steady(scene.timestep());
     if let Some(n) = nudge {
         sim.run_until(n, &mut source, &mut ()).unwrap();
         nudge_body_1(&mut sim.world);
@@ -67,12 +67,16 @@ fn a_recording_holds_the_scene_the_commands_and_every_ticks_hash() {
     let mut sim = SimLoop::new(World::new(&scene));
     sim.schedule(commands.iter().copied());
     let mut hashes = Hashes(vec![(0, state_hash(&sim.world))]);
-    sim.run_until(300, &mut VirtualClock::Steady(scene.timestep), &mut hashes)
-        .unwrap();
+    sim.run_until(
+        300,
+        &mut VirtualClock::Steady(scene.timestep()),
+        &mut hashes,
+    )
+    .unwrap();
 
     let rec = open(&bytes).unwrap();
     let h = rec.header();
-    assert_eq!(h.scene_source, scene.source);
+    assert_eq!(h.scene_source, scene.source());
     assert_eq!(h.timestep_ns, 10_000_000);
     assert_eq!(
         (h.integrator, h.substeps, h.start_tick),
@@ -111,7 +115,7 @@ fn assert_keyframes_restore(
     sim.schedule(commands.iter().copied());
     for i in 0..rec.keyframes().len() {
         let tick = rec.keyframes()[i].tick;
-        sim.run_until(tick, &mut VirtualClock::Steady(scene.timestep), &mut ())
+        sim.run_until(tick, &mut VirtualClock::Steady(scene.timestep()), &mut ())
             .unwrap();
         let restored = rec.world_at(i, &rec.scene().unwrap()).unwrap();
         assert_eq!(
@@ -194,8 +198,12 @@ fn thread_counts_give_identical_hashes() {
         world.set_threads(threads);
         let mut sim = SimLoop::new(world);
         let mut recorder = Recorder::start(Vec::new(), &sim.world, options(1, 4)).unwrap();
-        sim.run_until(10, &mut VirtualClock::Steady(scene.timestep), &mut recorder)
-            .unwrap();
+        sim.run_until(
+            10,
+            &mut VirtualClock::Steady(scene.timestep()),
+            &mut recorder,
+        )
+        .unwrap();
         let bytes = recorder.finish(&sim.world).unwrap().0;
         hashes.push(open(&bytes).unwrap().hashes().to_vec());
         if threads == 1 {
@@ -365,7 +373,7 @@ fn batched_replays_keep_commands_seeks_and_a_recorded_divergence() {
     let stiff = stiff_scene();
     let mut sim = SimLoop::new(World::new(&stiff));
     let mut recorder = Recorder::start(Vec::new(), &sim.world, options(5, 0)).unwrap();
-    let mut source = VirtualClock::Steady(stiff.timestep);
+    let mut source = VirtualClock::Steady(stiff.timestep());
     assert!(sim.run_until(1000, &mut source, &mut recorder).is_err());
     let recorded = sim.world.divergence().unwrap();
     let bytes = recorder.finish(&sim.world).unwrap().0;
@@ -431,7 +439,7 @@ fn a_recorded_divergence_replays_as_the_same_divergence() {
     let mut recorder = Recorder::start(Vec::new(), &sim.world, options(1, 0)).unwrap();
     let err = sim.run_until(
         1000,
-        &mut VirtualClock::Steady(scene.timestep),
+        &mut VirtualClock::Steady(scene.timestep()),
         &mut recorder,
     );
     let recorded = sim
@@ -460,7 +468,7 @@ fn a_recording_started_mid_run_replays_from_its_first_keyframe() {
     let (scene, commands) = (coverage_scene(), coverage_commands());
     let mut sim = SimLoop::new(World::new(&scene));
     sim.schedule(commands.iter().copied());
-    let mut source = VirtualClock::Steady(scene.timestep);
+    let mut source = VirtualClock::Steady(scene.timestep());
     sim.run_until(130, &mut source, &mut ()).unwrap();
     let mut recorder = Recorder::start(Vec::new(), &sim.world, options(1, 50)).unwrap();
     sim.run_until(260, &mut source, &mut recorder).unwrap();
@@ -494,8 +502,12 @@ fn an_interrupted_recording_is_a_prefix_and_opens_truncated_after_its_last_tick(
         let mut sim = SimLoop::new(World::new(&scene));
         sim.schedule(commands.iter().copied());
         let mut recorder = Recorder::start(&mut interrupted, &sim.world, options(1, 25)).unwrap();
-        sim.run_until(40, &mut VirtualClock::Steady(scene.timestep), &mut recorder)
-            .unwrap();
+        sim.run_until(
+            40,
+            &mut VirtualClock::Steady(scene.timestep()),
+            &mut recorder,
+        )
+        .unwrap();
         // Dropped without `finish`, as a run that stops without ending its recording: the
         // drop closes the open run of hashes (ticks 26 to 40, after the keyframe of tick 25).
     }
@@ -570,7 +582,7 @@ fn flushing_every_tick_leaves_a_readable_file_after_every_tick() {
         for tick in 1..=25 {
             sim.run_until(
                 tick,
-                &mut VirtualClock::Steady(scene.timestep),
+                &mut VirtualClock::Steady(scene.timestep()),
                 &mut recorder,
             )
             .unwrap();
@@ -781,7 +793,7 @@ fn the_new_integrators_record_restore_and_verify_and_the_tolerance_travels_in_th
         );
         assert_eq!(replay.world().tick(), 200, "{integrator}");
         let rec = open(&bytes).unwrap();
-        assert_eq!(rec.scene().unwrap().tolerance, 1e-6, "{integrator}");
+        assert_eq!(rec.scene().unwrap().tolerance(), 1e-6, "{integrator}");
         // Forest-Ruth's carried position force included.
         assert_keyframes_restore(&scene, &[], &bytes, integrator.name());
     }

@@ -32,7 +32,7 @@ fn corpus() -> Vec<Vec<u8>> {
     // Started mid-run, at tick 50.
     let mut sim = SimLoop::new(World::new(&scene));
     sim.schedule(commands.iter().copied());
-    let mut source = VirtualClock::Steady(scene.timestep);
+    let mut source = VirtualClock::Steady(scene.timestep());
     sim.run_until(50, &mut source, &mut ()).unwrap();
     let mut recorder = Recorder::start(Vec::new(), &sim.world, options(1, 15)).unwrap();
     sim.run_until(75, &mut source, &mut recorder).unwrap();
@@ -43,7 +43,7 @@ fn corpus() -> Vec<Vec<u8>> {
     let mut recorder = Recorder::start(Vec::new(), &sim.world, options(1, 5)).unwrap();
     let _ = sim.run_until(
         100,
-        &mut VirtualClock::Steady(stiff.timestep),
+        &mut VirtualClock::Steady(stiff.timestep()),
         &mut recorder,
     );
     files.push(recorder.finish(&sim.world).unwrap().0);
@@ -77,8 +77,8 @@ fn exercise(bytes: &[u8], reached: &mut Reached) {
     };
     reached.scenes += 1;
     // A mutated volley count or substep count would only measure allocation or patience.
-    let bodies = scene.bodies.len() + scene.volley.map_or(0, |v| v.count as usize);
-    if bodies > 1000 || scene.substeps > 16 {
+    let bodies = scene.bodies().len() + scene.volley().map_or(0, |v| v.count as usize);
+    if bodies > 1000 || scene.substeps() > 16 {
         return;
     }
     for i in 0..rec.keyframes().len() {

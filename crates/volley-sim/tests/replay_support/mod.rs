@@ -63,7 +63,7 @@ pub fn record_from(
 
 /// Records at one tick per frame.
 pub fn record(scene: &Scene, ticks: u64, commands: &[Stamped], options: RecordOptions) -> Vec<u8> {
-    let mut source = VirtualClock::Steady(scene.timestep);
+    let mut source = VirtualClock::Steady(scene.timestep());
     record_from(scene, ticks, commands, options, &mut source)
 }
 

@@ -118,7 +118,7 @@ const MODEL_REL: f64 = 1e-12;
 #[test]
 fn the_ball_feels_the_force_nathans_calculator_prints_in_every_row() {
     let scene = fly_ball(Integrator::ExplicitEuler);
-    let forces = &scene.forces;
+    let forces = &scene.forces();
     let w = Mass::launched(
         mass(),
         Launch {
@@ -207,7 +207,7 @@ fn volley_flies_the_ball_row_by_row_as_nathans_calculator_does() {
 #[test]
 fn the_sheets_ten_millisecond_step_costs_tenths_of_a_foot_of_carry() {
     let mut scene = fly_ball(Integrator::Rk4);
-    scene.timestep = std::time::Duration::from_millis(1);
+    scene.set_dt(0.001).unwrap();
     let mut world = World::new(&scene);
     let mut prev = world.bodies().positions().get(0);
     let carry = loop {

@@ -226,7 +226,7 @@ fn a_frame_stopped_by_a_failing_command_gives_back_the_ticks_it_did_not_run() {
     );
     assert_eq!(
         sim.clock.dropped(),
-        6 * scene.timestep,
+        6 * scene.timestep(),
         "only the cap's drop; the failure drops nothing"
     );
 }

@@ -37,7 +37,7 @@ fn final_error(text: &str, integrator: Integrator, duration: f64, steps: u64) ->
 /// Body 0's position error against the closed form after `steps` steps of `scene`, and the
 /// force evaluations they cost.
 fn stepped_error(scene: &scene::Scene, steps: u64) -> (f64, u64) {
-    let spec = scene.bodies[0];
+    let spec = scene.bodies()[0];
     let mut world = World::new(scene);
     for _ in 0..steps {
         world.step().unwrap();
@@ -46,7 +46,7 @@ fn stepped_error(scene: &scene::Scene, steps: u64) -> (f64, u64) {
         p: spec.position,
         mv: spec.mass * spec.velocity,
     };
-    let exact = closed_form(&scene.forces, start, spec.mass, world.time()).unwrap();
+    let exact = closed_form(&scene.forces(), start, spec.mass, world.time()).unwrap();
     let e = (world.bodies().positions().get(0) - exact.p).length();
     (e, world.force_evals())
 }

@@ -191,7 +191,7 @@ fn a_saved_scene_names_the_term_and_its_version() {
         "{text}"
     );
     let back = parse(&text, "saved.ron", "saved").unwrap();
-    assert_eq!(back.forces, scene.forces);
+    assert_eq!(back.forces(), scene.forces());
 }
 
 #[test]
@@ -289,7 +289,10 @@ fn a_scene_holds_several_terms_and_each_name_once() {
     };
     assert_eq!(run(both), run(builtin));
     assert_eq!(
-        scene_with(both, Integrator::Rk4, 0.01).forces.custom.len(),
+        scene_with(both, Integrator::Rk4, 0.01)
+            .forces()
+            .custom
+            .len(),
         2
     );
     let twice =

@@ -26,15 +26,19 @@ fn events(scene: &Scene, ticks: u64) -> Vec<volley_sim::Event> {
     }
     let mut sim = SimLoop::new(World::new(scene));
     let mut seen = Collect(Vec::new());
-    sim.run_until(ticks, &mut VirtualClock::Steady(scene.timestep), &mut seen)
-        .unwrap();
+    sim.run_until(
+        ticks,
+        &mut VirtualClock::Steady(scene.timestep()),
+        &mut seen,
+    )
+    .unwrap();
     seen.0
 }
 
 /// Analytic time the seed's projectile (radius r) touches the ground z = 0.
 fn analytic_impact(scene: &Scene) -> f64 {
-    let b = scene.bodies[0];
-    scene.start_time + ground_impact_time(b.position.z, b.velocity.z, 9.81, b.radius).unwrap()
+    let b = scene.bodies()[0];
+    scene.start_time() + ground_impact_time(b.position.z, b.velocity.z, 9.81, b.radius).unwrap()
 }
 
 #[test]
@@ -78,7 +82,7 @@ fn explicit_euler_lands_late_because_it_flies_high() {
 #[test]
 fn the_exact_launch_hits_the_target_dead_centre() {
     let scene = seed(Integrator::Exact);
-    let (b, target) = (scene.bodies[0], scene.targets[0]);
+    let (b, target) = (scene.bodies()[0], scene.targets()[0]);
     let g = DVec3::new(0.0, 0.0, -9.81);
     let all = events(&scene, 27);
     let hit = all

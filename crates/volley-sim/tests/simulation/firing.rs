@@ -25,7 +25,7 @@ fn inline(text: &str) -> Scene {
 
 /// The seed's launch point and target, on `scene`.
 fn seed_range(scene: &Scene) -> Range {
-    let mut range = Range::new(scene, bundled("seed").targets[0]);
+    let mut range = Range::new(scene, bundled("seed").targets()[0]);
     range.from = DVec3::new(10.0, 0.0, 2.0);
     range.mass = 2.5;
     range.radius = 0.1;
@@ -40,7 +40,7 @@ fn with_integrator(scene: &Scene, integrator: Integrator) -> Option<Scene> {
 #[test]
 fn every_integrator_hits_within_1e_9_m_on_the_seed_the_drag_and_the_wind_scene() {
     fn own_target(s: &Scene) -> Range {
-        Range::new(s, s.targets[0])
+        Range::new(s, s.targets()[0])
     }
     type RangeOf = fn(&Scene) -> Range;
     let cases: [(&str, RangeOf, f64); 3] = [
@@ -159,7 +159,7 @@ fn shooting_agrees_with_the_discrete_closed_form_of_both_eulers() {
 /// Closest approach of the discrete closed form's path at `v0` to `c` near `t_guess`: the
 /// prediction of the textbook aim's miss, by golden-section search on the closed form.
 fn predicted_miss(integrator: Integrator, range: &Range, v0: DVec3, t_guess: f64) -> f64 {
-    let hs = range.scene.dt() / f64::from(range.scene.substeps);
+    let hs = range.scene.dt() / f64::from(range.scene.substeps());
     let a = DVec3::new(0.0, 0.0, -9.81);
     let dist = |t: f64| {
         let p = firing::discrete_position(integrator, (range.from, v0, a), hs, t).unwrap();
@@ -329,7 +329,7 @@ fn a_target_behind_a_wall_is_blocked_naming_the_wall_and_the_tick() {
                launcher: (position: (10, 0, 2), speed: 30, elevation_deg: 45, azimuth_deg: 0,
                           mass: 2.5))",
     );
-    let range = Range::new(&scene, bundled("seed").targets[0]);
+    let range = Range::new(&scene, bundled("seed").targets()[0]);
     let err = firing::solve(&range, Mode::Speed(30.0)).unwrap_err();
     let FiringError::Blocked(ref shots) = err else {
         panic!("{err}");
@@ -413,7 +413,7 @@ fn newton_that_does_not_converge_is_an_error_naming_the_arrival_and_its_tick() {
     // Quadratic drag is not affine in the launch velocity: one Newton iteration cannot land
     // within 1e-12 of the range, so with the budget cut to one every arrival time stalls.
     let scene = bundled("wind");
-    let mut range = Range::new(&scene, scene.targets[0]);
+    let mut range = Range::new(&scene, scene.targets()[0]);
     range.newton_iterations = 1;
     let err = firing::solve(&range, Mode::Speed(24.0)).unwrap_err();
     let FiringError::Stalled {
@@ -441,7 +441,7 @@ fn every_bundled_scene_is_aimed_with_its_own_integrator_and_step() {
     let mut solved = 0;
     for (name, _) in scene::BUNDLED {
         let scene = bundled(name);
-        let l = scene.launcher;
+        let l = scene.launcher();
         let target = Target {
             center: l.position + DVec3::new(20.0, 5.0, 3.0),
             radius: 0.5,
@@ -476,7 +476,7 @@ fn every_bundled_scene_is_aimed_with_its_own_integrator_and_step() {
                 let shot = result.unwrap_or_else(|e| panic!("{name}: {e}"))[0];
                 // 1e-9 m, or the rounding floor of positions this far out over this many steps
                 // where that is larger (10 km out over a 120 s flight: a few nm).
-                let steps = (shot.flight_time / scene.dt()).ceil() * f64::from(scene.substeps);
+                let steps = (shot.flight_time / scene.dt()).ceil() * f64::from(scene.substeps());
                 let size = target.center.abs().max_element();
                 let bound = HIT.max(firing::rounding_floor(steps + 1.0, size));
                 assert!(shot.miss < bound, "{name}: {} vs {bound}", shot.miss);

@@ -28,8 +28,12 @@ fn the_seed_projectile_reports_coming_to_rest_once_in_a_long_run() {
     let scene = scene::load(&crate::support::ws("assets/scenes/seed.ron")).unwrap();
     let mut sim = SimLoop::new(World::new(&scene));
     let mut rests = Rests::default();
-    sim.run_until(5_000, &mut VirtualClock::Steady(scene.timestep), &mut rests)
-        .unwrap();
+    sim.run_until(
+        5_000,
+        &mut VirtualClock::Steady(scene.timestep()),
+        &mut rests,
+    )
+    .unwrap();
     assert_eq!(rests.0, 1);
     // Still resting: its centre one radius above the ground, to the few ulps the clamp onto the
     // surface leaves (the contact offset is formed as height + radius in f64).

@@ -96,7 +96,7 @@ const C6_PROPELLANT_LEFT_G: [f64; 25] = [
 fn the_propellant_burns_as_openrocket_tabulates_it() {
     let scene = c6_in_space(Integrator::Rk4, 0.001);
     let motor = scene
-        .forces
+        .forces()
         .thrust
         .as_ref()
         .expect("the scene declares a motor");

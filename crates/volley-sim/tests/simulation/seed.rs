@@ -107,7 +107,7 @@ fn seed_run() -> Vec<World> {
     let mut sim = SimLoop::new(World::new(&scene));
     let mut states = vec![sim.world.clone()];
     for tick in 1..=27 {
-        sim.run_until(tick, &mut VirtualClock::Steady(scene.timestep), &mut ())
+        sim.run_until(tick, &mut VirtualClock::Steady(scene.timestep()), &mut ())
             .unwrap();
         states.push(sim.world.clone());
     }
@@ -166,7 +166,7 @@ fn the_printed_rounded_state_misses_a_digit() {
 
 /// The launch the seed scene resolves its `Aim` to.
 fn seed_launch() -> (DVec3, DVec3, f64) {
-    let body = seed_scene().bodies[0];
+    let body = seed_scene().bodies()[0];
     (body.position, body.velocity, body.mass)
 }
 
@@ -228,7 +228,7 @@ fn the_seed_built_in_code_steps_to_the_files_hash() {
     use volley_sim::{Integrator, World};
     let file = scene::bundled("seed").unwrap();
     let built = Scene::builder("seed", 0.2)
-        .description(&file.description)
+        .description(&file.description())
         .start_time(5.0)
         .duration(5.4)
         .integrator(Integrator::ExplicitEuler)
@@ -240,13 +240,13 @@ fn the_seed_built_in_code_steps_to_the_files_hash() {
         .target(Target {
             center: glam::DVec3::new(50.0, 0.0, 20.0),
             radius: 0.5,
-            ..file.targets[0]
+            ..file.targets()[0]
         })
         .body(BodySpec {
             mass: 2.5,
             radius: 0.1,
             position: glam::DVec3::new(10.0, 0.0, 2.0),
-            velocity: file.bodies[0].velocity,
+            velocity: file.bodies()[0].velocity,
             spin: Default::default(),
         })
         .build()
@@ -262,5 +262,5 @@ fn the_seed_built_in_code_steps_to_the_files_hash() {
             a.tick()
         );
     }
-    assert!(built.source.contains("built in code"));
+    assert!(built.source().contains("built in code"));
 }

@@ -19,7 +19,7 @@ fn diverges(scene: &Scene, integrator: Integrator, ticks: u64) -> bool {
     let mut s = scene.clone();
     s.set_integrator(integrator).unwrap();
     let mut sim = SimLoop::new(World::new(&s));
-    sim.run_until(ticks, &mut VirtualClock::Steady(s.timestep), &mut ())
+    sim.run_until(ticks, &mut VirtualClock::Steady(s.timestep()), &mut ())
         .is_err()
 }
 
@@ -147,7 +147,7 @@ fn a_point_mass_is_linearised_at_the_orbit_periapsis() {
         forces: [PointMass(center: (0, 0, 0), mu: 1.0)],
         bodies: [(mass: 1.0, position: (1, 0, 0), launch: Velocity((0, 0.5, 0)))])";
     let scene = parse(text);
-    let b = scene.bodies[0];
+    let b = scene.bodies()[0];
     let s = Stiffness::of_body(&scene, b.mass, b.position, b.velocity);
     assert!((s.w2_nl - 343.0).abs() < 1e-9, "{}", s.w2_nl);
 }
@@ -213,10 +213,10 @@ fn a_step_exactly_on_the_oscillator_limit_is_called_unstable_and_diverges() {
 #[test]
 fn the_pre_check_counts_a_spins_drag_and_lift_as_more_drag() {
     let ball = load("baseball");
-    let b = &ball.bodies[0];
+    let b = &ball.bodies()[0];
     let still = Stiffness::of_body(&ball, b.mass, b.position, b.velocity);
     let spun = Stiffness::of_spinning(&ball, b.mass, b.position, b.velocity, b.spin.length());
-    let d = ball.forces.mach_drag.as_ref().unwrap();
+    let d = ball.forces().mach_drag.as_ref().unwrap();
     let sp = d.spin.unwrap();
     let (rho, _) = d.air.at(0.0);
     let extra = std::f64::consts::PI / 8.0

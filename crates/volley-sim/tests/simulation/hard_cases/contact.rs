@@ -24,9 +24,9 @@ fn impacts(trace: &Trace, surface: Surface) -> Vec<(f64, f64)> {
 
 /// The seed's shot: start height, vertical speed, and t* from the closed form (absolute time).
 fn landing(scene: &Scene) -> (f64, f64) {
-    let b = scene.bodies[0];
+    let b = scene.bodies()[0];
     let t = ground_impact_time(b.position.z, b.velocity.z, 9.81, 0.0).unwrap();
-    (scene.start_time + t, b.velocity.z - 9.81 * t)
+    (scene.start_time() + t, b.velocity.z - 9.81 * t)
 }
 
 #[test]
@@ -48,7 +48,7 @@ fn swept_detection_finds_the_impact_inside_the_step() {
             // The Euler methods' own paths are high (explicit) or low (the other two) by
             // g t h / 2, so they cross the ground later or earlier by that over |vz|.
             _ => {
-                let shift = 9.81 * (t_star - scene.start_time) * h / 2.0 / vz.abs();
+                let shift = 9.81 * (t_star - scene.start_time()) * h / 2.0 / vz.abs();
                 let sign = if integrator == ExplicitEuler {
                     1.0
                 } else {
@@ -66,18 +66,21 @@ fn swept_detection_finds_the_impact_inside_the_step() {
 
 #[test]
 fn end_of_step_detection_is_late_and_penetrates() {
-    let mut scene = load("hard/ground_impact");
-    scene.detection = Detection::Discrete;
+    let scene = load("hard/ground_impact")
+        .edit()
+        .detection(Detection::Discrete)
+        .build()
+        .unwrap();
     let (t_star, _) = landing(&scene);
-    let b = scene.bodies[0];
+    let b = scene.bodies()[0];
     let h = scene.dt();
     let (trace, _, _) = run(&scene, 400); // velocity Verlet: exact under gravity
     let (t, depth) = impacts(&trace, Surface::Ground)[0];
     // Seen at the end of the first tick whose state is below the ground.
-    let n = ((t_star - scene.start_time) / h).floor() + 1.0;
+    let n = ((t_star - scene.start_time()) / h).floor() + 1.0;
     let at = n * h;
     let z = b.position.z + b.velocity.z * at - 0.5 * 9.81 * at * at;
-    assert!((t - (scene.start_time + at)).abs() < 1e-9, "{t}");
+    assert!((t - (scene.start_time() + at)).abs() < 1e-9, "{t}");
     assert!((depth + z).abs() < 1e-9, "{depth} vs {}", -z);
     // docs/physics.md, hard case 6: "~3 ms late and penetrates ~8 cm" at 60 Hz.
     let late = t - t_star;
@@ -86,9 +89,15 @@ fn end_of_step_detection_is_late_and_penetrates() {
 }
 
 fn hits_wall(scene: &Scene, integrator: Integrator, wall_x: f64, detection: Detection) -> bool {
-    let mut s = with(scene, integrator);
-    s.detection = detection;
-    s.walls[0].point.x = wall_x;
+    let s = with(scene, integrator);
+    let mut wall = s.walls()[0];
+    wall.point.x = wall_x;
+    let s = s
+        .edit()
+        .detection(detection)
+        .walls(vec![wall])
+        .build()
+        .unwrap();
     let (trace, result, _) = run(&s, 60);
     assert!(result.is_ok(), "{integrator}: {result:?}");
     let hit = !impacts(&trace, Surface::Wall(0)).is_empty();
@@ -105,9 +114,9 @@ fn hits_wall(scene: &Scene, integrator: Integrator, wall_x: f64, detection: Dete
 #[test]
 fn a_swept_test_never_tunnels_and_a_discrete_one_misses_about_half_the_phases() {
     let scene = load("hard/tunnelling");
-    let b = scene.bodies[0];
+    let b = scene.bodies()[0];
     let step = b.velocity.x * scene.dt(); // 0.388 m of travel per tick
-    let w = scene.walls[0];
+    let w = scene.walls()[0];
     let reach = 0.5 * w.thickness + b.radius; // the discrete overlap window is 2 reach wide
     let phases = 40;
     for integrator in allowed(&scene) {
@@ -155,8 +164,8 @@ fn apexes(trace: &Trace) -> Vec<f64> {
 fn an_elastic_bounce_keeps_its_apex_for_a_minute_and_never_gains_energy() {
     let scene = load("hard/bounce");
     let ticks = scene.ticks_until(60.0);
-    let top = scene.bodies[0].position.z;
-    let fall = (2.0 * (top - scene.bodies[0].radius) / 9.81).sqrt();
+    let top = scene.bodies()[0].position.z;
+    let fall = (2.0 * (top - scene.bodies()[0].radius) / 9.81).sqrt();
     let bounces = ((60.0 - fall) / (2.0 * fall)).floor() as usize + 1;
     for integrator in [VelocityVerlet, Midpoint, Rk4, Exact] {
         let (trace, result, _) = run(&with(&scene, integrator), ticks);
@@ -193,7 +202,7 @@ fn an_elastic_bounce_keeps_its_apex_for_a_minute_and_never_gains_energy() {
 fn euler_bounces_gain_or_lose_half_g_squared_h_squared_per_step() {
     let scene = load("hard/bounce");
     let ticks = scene.ticks_until(60.0);
-    let (m, g, h) = (scene.bodies[0].mass, 9.81, scene.dt());
+    let (m, g, h) = (scene.bodies()[0].mass, 9.81, scene.dt());
     let per_step = 0.5 * m * g * g * h * h;
     for (integrator, sign) in [
         (ExplicitEuler, 1.0),
@@ -232,9 +241,16 @@ fn euler_bounces_gain_or_lose_half_g_squared_h_squared_per_step() {
 
 #[test]
 fn an_inelastic_bounce_loses_restitution_squared_of_its_height() {
-    let mut scene = load("hard/bounce");
-    scene.ground.as_mut().unwrap().restitution = 0.8;
-    let (top, r) = (scene.bodies[0].position.z, scene.bodies[0].radius);
+    let scene = load("hard/bounce");
+    let scene = scene
+        .edit()
+        .ground(volley_sim::Ground {
+            restitution: 0.8,
+            ..scene.ground().unwrap()
+        })
+        .build()
+        .unwrap();
+    let (top, r) = (scene.bodies()[0].position.z, scene.bodies()[0].radius);
     let (trace, result, _) = run(&scene, scene.ticks_until(20.0));
     assert!(result.is_ok(), "{result:?}");
     for pair in trace.energy.windows(2) {

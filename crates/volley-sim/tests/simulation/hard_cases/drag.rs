@@ -16,8 +16,11 @@ const G: f64 = 9.81;
 
 /// (vT, a, t*, h) of the scene's throw.
 fn throw(scene: &Scene) -> (f64, f64, f64, f64) {
-    let (m, c) = (scene.bodies[0].mass, scene.forces.quadratic_drag.unwrap());
-    let v0 = scene.bodies[0].velocity.z;
+    let (m, c) = (
+        scene.bodies()[0].mass,
+        scene.forces().quadratic_drag.unwrap(),
+    );
+    let v0 = scene.bodies()[0].velocity.z;
     let vt = (m * G / c).sqrt();
     let a = (v0 / vt).atan();
     let h = vt * vt / (2.0 * G) * (1.0 + v0 * v0 / (vt * vt)).ln();
@@ -71,7 +74,7 @@ fn every_integrator_shows_its_order_on_the_way_up() {
             let (e, evals) = error_before_apex(&scene, Dopri5);
             let ticks = (throw(&scene).2 / scene.dt()).floor() as u64;
             let attempts = (evals - ticks) / 6;
-            let bound = attempts as f64 * scene.tolerance * 31.0;
+            let bound = attempts as f64 * scene.tolerance() * 31.0;
             assert!(
                 e < bound,
                 "dopri5: {e} m over {attempts} attempts, bound {bound}"

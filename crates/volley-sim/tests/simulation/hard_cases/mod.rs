@@ -34,7 +34,7 @@ pub fn with(scene: &Scene, integrator: Integrator) -> Scene {
 pub fn allowed(scene: &Scene) -> Vec<Integrator> {
     Integrator::ALL
         .into_iter()
-        .filter(|i| scene::check_integrator(*i, &scene.forces).is_ok())
+        .filter(|i| scene::check_integrator(*i, &scene.forces()).is_ok())
         .collect()
 }
 
@@ -72,7 +72,11 @@ pub fn run(scene: &Scene, ticks: u64) -> (Trace, Result<(), LoopError>, World) {
     let mut sim = SimLoop::new(World::new(scene));
     let mut trace = Trace::default();
     trace.push(&sim.world);
-    let result = sim.run_until(ticks, &mut VirtualClock::Steady(scene.timestep), &mut trace);
+    let result = sim.run_until(
+        ticks,
+        &mut VirtualClock::Steady(scene.timestep()),
+        &mut trace,
+    );
     (trace, result, sim.world)
 }
 

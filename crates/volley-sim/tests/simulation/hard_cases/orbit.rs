@@ -35,7 +35,11 @@ fn drift(integrator: Integrator) -> (Drift, Result<(), LoopError>) {
         windows: [0.0; WINDOWS],
     };
     let mut sim = SimLoop::new(world);
-    let result = sim.run_until(STEPS, &mut VirtualClock::Steady(scene.timestep), &mut drift);
+    let result = sim.run_until(
+        STEPS,
+        &mut VirtualClock::Steady(scene.timestep()),
+        &mut drift,
+    );
     (drift, result)
 }
 
@@ -132,9 +136,9 @@ fn kepler_equation_position(mu: f64, p0: glam::DVec3, v0: glam::DVec3, t: f64) -
 #[test]
 fn kepler_time_exact_lands_where_keplers_equation_says() {
     let scene = load("hard/kepler_time");
-    assert_eq!(scene.integrator, Exact);
-    let mu = scene.forces.point_mass.unwrap().mu;
-    let b = scene.bodies[0];
+    assert_eq!(scene.integrator(), Exact);
+    let mu = scene.forces().point_mass.unwrap().mu;
+    let b = scene.bodies()[0];
     let s0 = volley_sim::internals::integrate::BodyState {
         p: b.position,
         mv: b.mass * b.velocity,
@@ -155,7 +159,7 @@ fn kepler_time_exact_lands_where_keplers_equation_says() {
             "tick {n}: stepped position off by {err:e} m"
         );
         let closed =
-            volley_sim::internals::exact::closed_form(&scene.forces, s0, b.mass, t).unwrap();
+            volley_sim::internals::exact::closed_form(&scene.forces(), s0, b.mass, t).unwrap();
         let err = (closed.p - expected).length();
         assert!(err <= 1e-13, "tick {n}: closed form off by {err:e} m");
     }
@@ -186,7 +190,7 @@ fn drift_windows(scene: &volley_sim::Scene, ticks: u64) -> [f64; WINDOWS] {
     let mut sim = SimLoop::new(world);
     sim.run_until(
         ticks,
-        &mut VirtualClock::Steady(scene.timestep),
+        &mut VirtualClock::Steady(scene.timestep()),
         &mut windows,
     )
     .unwrap();
@@ -228,7 +232,7 @@ fn eccentric_orbit_symplectic_energy_is_flat_rk4_drifts_and_exact_keeps_it() {
 #[test]
 fn eccentric_orbit_stability_is_judged_at_periapsis() {
     let scene = load("hard/eccentric_orbit");
-    let (b, mu) = (scene.bodies[0], scene.forces.point_mass.unwrap().mu);
+    let (b, mu) = (scene.bodies()[0], scene.forces().point_mass.unwrap().mu);
     // Periapsis from the start at apoapsis: a = 1 / (2/r - v^2/mu), r_p = 2 a - r_a.
     let a = 1.0 / (2.0 / b.position.length() - b.velocity.length_squared() / mu);
     let rp = 2.0 * a - b.position.length();

@@ -112,8 +112,15 @@ fn stiff_spring_exact_is_the_oscillation_itself() {
 
 #[test]
 fn stiff_spring_overflow_is_caught_as_non_finite_without_the_energy_guard() {
-    let mut scene = with(&load("hard/stiff_spring"), ExplicitEuler);
-    scene.guard.every = 0;
+    let scene = with(&load("hard/stiff_spring"), ExplicitEuler);
+    let scene = scene
+        .edit()
+        .guard(volley_sim::Guard {
+            every: 0,
+            ..scene.guard()
+        })
+        .build()
+        .unwrap();
     let y = 100.0 * scene.dt();
     let (_, result, world) = run(&scene, 5000);
     let d = diverged(&result, "explicit-euler, no energy guard");
@@ -227,8 +234,8 @@ fn strong_drag_multiplies_velocity_by_the_stability_function() {
         // the tick's is at most attempts x that (evaluations: 1 + 6 per attempt).
         let allowed_error = if integrator == Dopri5 {
             let attempts = (one.force_evals() - 1) / 6;
-            let mv0 = v0 * s.bodies[0].mass;
-            attempts as f64 * s.tolerance * (1.0 + mv0) / mv0
+            let mv0 = v0 * s.bodies()[0].mass;
+            attempts as f64 * s.tolerance() * (1.0 + mv0) / mv0
         } else {
             1e-12 * r.abs().max(1.0)
         };
@@ -245,7 +252,7 @@ fn strong_drag_multiplies_velocity_by_the_stability_function() {
             assert!(result.is_ok(), "{integrator}: {result:?}");
             // Dormand-Prince's tolerance has an absolute part: below it the sign is noise.
             let floor = if integrator == Dopri5 {
-                1e3 * s.tolerance
+                1e3 * s.tolerance()
             } else {
                 0.0
             };
@@ -261,8 +268,15 @@ fn strong_drag_multiplies_velocity_by_the_stability_function() {
         }
     }
     // Explicit Euler flips the sign every step: 1 - k h = -2.33.
-    let mut unguarded = with(&scene, ExplicitEuler);
-    unguarded.guard.every = 0;
+    let unguarded = with(&scene, ExplicitEuler);
+    let unguarded = unguarded
+        .edit()
+        .guard(volley_sim::Guard {
+            every: 0,
+            ..unguarded.guard()
+        })
+        .build()
+        .unwrap();
     let (trace, _, _) = run(&unguarded, 3);
     assert!(trace.v[1].x < 0.0 && trace.v[2].x > 0.0 && trace.v[3].x < 0.0);
     assert!(trace.v[3].x.abs() > trace.v[2].x.abs());
@@ -271,10 +285,10 @@ fn strong_drag_multiplies_velocity_by_the_stability_function() {
 /// Hard case 10's critical solution about the equilibrium, per axis: with `g = w = 10` and
 /// `A = y0 - y_eq`, `y = y_eq + (A + (v0 + g A) t) e^(-g t)`.
 fn critical_textbook(scene: &volley_sim::Scene, t: f64) -> glam::DVec3 {
-    let s = scene.forces.spring.expect("a spring is declared");
-    let b = scene.bodies[0];
+    let s = scene.forces().spring.expect("a spring is declared");
+    let b = scene.bodies()[0];
     let g = 10.0;
-    let eq = s.anchor + scene.forces.gravity.unwrap() / 100.0;
+    let eq = s.anchor + scene.forces().gravity.unwrap() / 100.0;
     let a = b.position - eq;
     eq + (a + (b.velocity + g * a) * t) * (-g * t).exp()
 }
@@ -282,19 +296,19 @@ fn critical_textbook(scene: &volley_sim::Scene, t: f64) -> glam::DVec3 {
 #[test]
 fn critical_spring_exact_is_the_critical_closed_form_at_every_tick() {
     let scene = load("hard/critical_spring");
-    let (k, c, m) = (100.0, 20.0, scene.bodies[0].mass);
+    let (k, c, m) = (100.0, 20.0, scene.bodies()[0].mass);
     // Exactly critical in floating point: gamma^2 = (c / 2m)^2 = k / m.
     assert_eq!((c / (2.0 * m)) * (c / (2.0 * m)), k / m);
-    assert_eq!(scene.integrator, Exact);
+    assert_eq!(scene.integrator(), Exact);
     let (trace, result, world) = run(&scene, 600);
     assert!(result.is_ok(), "{result:?}");
     let s0 = volley_sim::internals::integrate::BodyState {
-        p: scene.bodies[0].position,
-        mv: m * scene.bodies[0].velocity,
+        p: scene.bodies()[0].position,
+        mv: m * scene.bodies()[0].velocity,
     };
     for (n, p) in trace.p.iter().enumerate() {
         let t = n as f64 * scene.dt();
-        let closed = volley_sim::internals::exact::closed_form(&scene.forces, s0, m, t).unwrap();
+        let closed = volley_sim::internals::exact::closed_form(&scene.forces(), s0, m, t).unwrap();
         // Each step composes the exact flow, so only rounding accumulates (an ulp of the 5 m
         // coordinates a step, damped by the flow itself): 1e-12 m over 600 steps. The closed
         // form and the textbook critical solution are both a few ulps from the truth.
@@ -315,7 +329,7 @@ fn critical_spring_every_integrator_runs_with_its_order_and_settles() {
     assert_eq!(allowed(&scene), Integrator::ALL.to_vec());
     let report = stability::check(&scene);
     assert!(report.verdicts.iter().all(|v| v.stable), "{report:?}");
-    let eq = scene.forces.spring.unwrap().anchor + scene.forces.gravity.unwrap() / 100.0;
+    let eq = scene.forces().spring.unwrap().anchor + scene.forces().gravity.unwrap() / 100.0;
     // Largest position error against the closed form over the first second, at dt and dt / 2.
     let max_error = |integrator: Integrator, halve: bool| {
         let mut s = with(&scene, integrator);
@@ -356,7 +370,7 @@ fn critical_spring_every_integrator_runs_with_its_order_and_settles() {
                     .iter()
                     .map(|p| p.abs().max_element())
                     .fold(0.0, f64::max);
-            let bound = attempts as f64 * s.tolerance * scale;
+            let bound = attempts as f64 * s.tolerance() * scale;
             let e = max_error(Dopri5, false);
             assert!(
                 e < bound,

@@ -28,7 +28,7 @@ fn after_an_hour_of_jittery_frames_sim_time_is_exactly_ticks_times_dt() {
         n as f64 * scene.dt(),
         "one multiplication, no running sum"
     );
-    let nanos = u64::try_from(scene.timestep.as_nanos()).unwrap() * n;
+    let nanos = u64::try_from(scene.timestep().as_nanos()).unwrap() * n;
     assert_eq!(sim.clock.elapsed(), Duration::from_nanos(nanos));
     assert_eq!(sim.clock.dropped(), Duration::ZERO);
     // The body moves at 1 m/s under no force: x = 1 m/s * t, to rounding of 216 000 additions.
@@ -54,7 +54,7 @@ fn summing_a_sixtieth_in_f32_loses_seconds_per_hour() {
 #[test]
 fn a_five_second_hitch_is_clamped_capped_and_reported_without_a_spiral() {
     let scene = load("hard/hitch");
-    let step = scene.timestep;
+    let step = scene.timestep();
     let mut sim = SimLoop::new(World::new(&scene));
     for _ in 0..10 {
         assert_eq!(sim.frame(step, &mut ()).unwrap().steps, 1);
@@ -81,6 +81,6 @@ fn a_five_second_hitch_is_clamped_capped_and_reported_without_a_spiral() {
     assert_eq!(sim.world.tick(), ticks);
     assert_eq!(
         sim.world.time(),
-        scene.start_time + ticks as f64 * scene.dt()
+        scene.start_time() + ticks as f64 * scene.dt()
     );
 }
