@@ -50,6 +50,11 @@ pub enum DragCurve {
 }
 
 impl DragCurve {
+    /// A curve of the scene's own `(Mach, Cd)` points, checked ([`DragTable::new`]).
+    pub fn from_points(points: &[(f64, f64)]) -> Result<DragCurve, crate::drag::DragTableError> {
+        Ok(DragCurve::Table(Arc::new(DragTable::new(points)?)))
+    }
+
     /// The curve's table.
     #[inline]
     pub fn table(&self) -> &DragTable {
@@ -88,6 +93,11 @@ pub enum DragSize {
 }
 
 impl DragSize {
+    /// A ballistic coefficient as published, in lb/in^2 (a scene file's `bc`).
+    pub fn from_bc_lb_in2(bc: f64) -> DragSize {
+        DragSize::Ballistic(bc * KG_M2_PER_LB_IN2)
+    }
+
     /// `Cd_body A / Cd(M) / 2` (m^2) for a body of mass `m`, so `F = -rho Cd(M) |u| u` times it.
     #[inline(always)]
     fn half_area(self, m: f64) -> f64 {
@@ -166,6 +176,24 @@ pub struct Wind {
 }
 
 impl Wind {
+    /// The same wind `velocity` (m/s, world axes) at every height.
+    pub fn uniform(velocity: DVec3) -> Wind {
+        Wind {
+            velocity,
+            reference_height: 10.0,
+            exponent: 0.0,
+        }
+    }
+
+    /// `velocity` (m/s) at `reference_height` (m), growing with height as `(z / z_ref)^exponent`.
+    pub fn profile(velocity: DVec3, reference_height: f64, exponent: f64) -> Wind {
+        Wind {
+            velocity,
+            reference_height,
+            exponent,
+        }
+    }
+
     /// The wind (m/s) at height `z` (m).
     #[inline(always)]
     pub fn at(&self, z: f64) -> DVec3 {
@@ -259,6 +287,19 @@ pub struct SpinLift {
     pub drag_per_spin: f64,
 }
 
+impl SpinLift {
+    /// Alan Nathan's lift with `decay`, and `drag_per_1000_rpm` added to the drag coefficient
+    /// per 1000 rpm of spin (a scene file's `spin: (lift: Nathan, decay: ..., drag_per_1000_rpm:
+    /// ...)`).
+    pub fn nathan(decay: SpinDecay, drag_per_1000_rpm: f64) -> SpinLift {
+        SpinLift {
+            lift: LiftModel::Nathan,
+            decay,
+            drag_per_spin: drag_per_1000_rpm / (1000.0 * RAD_S_PER_RPM),
+        }
+    }
+}
+
 /// Drag against a Mach-dependent curve (see the module doc for the formula and its source).
 #[derive(Clone, Debug, PartialEq)]
 pub struct MachDrag {
@@ -277,6 +318,69 @@ pub struct MachDrag {
 }
 
 impl MachDrag {
+    /// Drag against `curve` for bodies sized by `size`, in the ICAO standard atmosphere with
+    /// the scene's z = 0 at sea level, no wind, no spin, PCHIP between the curve's points: a
+    /// scene file's `MachDrag(curve: ..., bc: ...)` with its defaults. Set the rest with the
+    /// `with_` methods or the public fields.
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use volley_sim::{DragCurve, DragSize, MachDrag, Scene, Wind};
+    ///
+    /// // The rifle scene's bullet: a G7 boat-tail, BC 0.223 lb/in^2, a 3 m/s crosswind.
+    /// let drag = MachDrag::new(DragCurve::G7, DragSize::from_bc_lb_in2(0.223))
+    ///     .with_wind(Wind::uniform(DVec3::new(0.0, 3.0, 0.0)));
+    /// let scene = Scene::builder("rifle", 1.0 / 60.0)
+    ///     .gravity(DVec3::new(0.0, 0.0, -9.80665))
+    ///     .mach_drag(drag)
+    ///     .build()?;
+    /// assert!(scene.forces().mach_drag.is_some());
+    /// # Ok::<(), volley_sim::SceneError>(())
+    /// ```
+    pub fn new(curve: DragCurve, size: DragSize) -> MachDrag {
+        MachDrag {
+            curve,
+            interpolation: Interpolation::Pchip,
+            size,
+            air: AirModel::standard(0.0, None, None),
+            wind: None,
+            spin: None,
+        }
+    }
+
+    /// The term in `air` instead.
+    #[must_use]
+    pub fn with_air(self, air: AirModel) -> MachDrag {
+        MachDrag { air, ..self }
+    }
+
+    /// The term in `wind`.
+    #[must_use]
+    pub fn with_wind(self, wind: Wind) -> MachDrag {
+        MachDrag {
+            wind: Some(wind),
+            ..self
+        }
+    }
+
+    /// The term with a spin's lift and drag (needs a [`DragSize::Diameter`]).
+    #[must_use]
+    pub fn with_spin(self, spin: SpinLift) -> MachDrag {
+        MachDrag {
+            spin: Some(spin),
+            ..self
+        }
+    }
+
+    /// The term with `interpolation` between the curve's points.
+    #[must_use]
+    pub fn with_interpolation(self, interpolation: Interpolation) -> MachDrag {
+        MachDrag {
+            interpolation,
+            ..self
+        }
+    }
+
     /// Force (N) on a body of mass `m` (kg) at `p` (m) moving at `v` (m/s). Out of line, so
     /// that the general model's force stays small enough to inline for the scenes without it.
     #[inline(never)]

@@ -184,6 +184,33 @@ pub struct Thrust {
 }
 
 impl Thrust {
+    /// A motor from its curve's `(s since launch, N)` points (checked: [`ThrustCurve::new`]),
+    /// the propellant it burns (kg) and which way it pushes.
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use volley_sim::{Thrust, ThrustDirection};
+    ///
+    /// let motor = Thrust::new(
+    ///     vec![(0.0, 0.0), (0.2, 14.0), (1.86, 0.0)],
+    ///     0.0108,
+    ///     ThrustDirection::Fixed(DVec3::Z),
+    /// )?;
+    /// assert_eq!(motor.curve.burnout(), 1.86);
+    /// # Ok::<(), volley_sim::ThrustCurveError>(())
+    /// ```
+    pub fn new(
+        points: Vec<(f64, f64)>,
+        propellant: f64,
+        direction: ThrustDirection,
+    ) -> Result<Thrust, ThrustCurveError> {
+        Ok(Thrust {
+            curve: Arc::new(ThrustCurve::new(points)?),
+            propellant,
+            direction,
+        })
+    }
+
     /// The mass (kg) at `tau` s after launch of a body launched with `launch_mass` kg.
     #[inline]
     pub fn mass_at(&self, tau: f64, launch_mass: f64) -> f64 {

@@ -17,6 +17,7 @@ mod events;
 mod exact;
 mod firing;
 mod hard_cases;
+mod in_code;
 mod layers;
 mod pacing;
 mod parallel;
