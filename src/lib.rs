@@ -9,17 +9,17 @@
 // The simulation, named rather than globbed: its game-facing surface as the crate root has it,
 // and the (hidden) modules the window, the CLI, the tests and the benches reach into.
 pub use volley_sim::internals::{
-    atmosphere, body, clock, command, contact, drag, exact, firing, forces, hash, integrate,
+    atmosphere, body, clock, command, contact, drag, draw, exact, firing, forces, hash, integrate,
     pacing, replay, rng, scene, sim_loop, simd, stability, step, study, table, timeline, world,
 };
 pub use volley_sim::{
     AimMode, AimRange, Atmosphere, Bodies, BodyId, BodySpec, BodyState, ClockError, Command,
     CommandError, CommandParseError, DEFAULT_DRAW, DEFAULT_POLICY, Detection, Divergence,
-    DragTable, DrawMode, Event, EventKind, FiringError, FirstDivergence, FixedClock, ForceKind,
-    Forces, FrameSource, FrameTicks, Ground, Guard, Integrator, Launcher, LoopError, LoopPolicy,
-    MachDrag, ObserverError, PointMass, RealClock, RecordOptions, Recorder, Recording, Replay,
-    Scene, SceneBuilder, SceneError, ScriptError, Shot, SimLoop, Spring, Stamped, Surface, Target,
-    TickObserver, Timeline, VirtualClock, Volley, Wall, World, bundled_scene, load_scene,
+    DragTable, Draw, DrawMode, Event, EventKind, FiringError, FirstDivergence, FixedClock,
+    ForceKind, Forces, FrameSource, FrameTicks, Ground, Guard, Integrator, Launcher, LoopError,
+    LoopPolicy, MachDrag, ObserverError, PointMass, RealClock, RecordOptions, Recorder, Recording,
+    Replay, Scene, SceneBuilder, SceneError, ScriptError, Shot, SimLoop, Spring, Stamped, Surface,
+    Target, TickObserver, Timeline, VirtualClock, Volley, Wall, World, bundled_scene, load_scene,
     parse_scene, parse_scene_with, parse_script, solve_aim, state_hash,
 };
 

@@ -16,7 +16,7 @@ use glam::DVec3;
 
 use crate::command::Stamped;
 use crate::contact::EventKind;
-use crate::pacing::DrawMode;
+pub use crate::draw::{Draw, DrawAt, DrawMode};
 use crate::render::probe::ProbeHistory;
 use crate::render::reference::References;
 use crate::render::series::LaneSeries;
@@ -24,41 +24,6 @@ use crate::render::trails::TrailRing;
 use crate::sim_loop::{ObserverError, TickObserver};
 use crate::timeline::Timeline;
 use crate::world::{BodyId, World};
-
-/// Body positions at one moment, in id order.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Positions {
-    ids: Vec<BodyId>,
-    positions: Vec<DVec3>,
-    tick: u64,
-}
-
-impl Positions {
-    /// Copies the world's positions, reusing this snapshot's allocation.
-    pub fn copy_from(&mut self, world: &World) {
-        let bodies = world.bodies();
-        self.ids.clear();
-        self.ids.extend_from_slice(bodies.ids());
-        self.positions.clear();
-        self.positions.extend(bodies.positions().iter());
-        self.tick = world.tick();
-    }
-
-    /// The tick the snapshot was taken at.
-    pub fn tick(&self) -> u64 {
-        self.tick
-    }
-
-    /// Number of bodies in the snapshot.
-    pub fn len(&self) -> usize {
-        self.ids.len()
-    }
-
-    /// Whether the snapshot holds no bodies.
-    pub fn is_empty(&self) -> bool {
-        self.ids.is_empty()
-    }
-}
 
 /// Most (body, target) pairs [`TargetPasses`] keeps; later pairs are not recorded.
 pub const MAX_PASSES: usize = 256;
@@ -135,7 +100,9 @@ impl TargetPasses {
 /// The previous state, trails and references of one world, fed by the loop.
 #[derive(Debug)]
 pub struct TickHistory {
-    previous: Positions,
+    /// The state before the frame's last tick and the drawn positions: the library's own
+    /// [`Draw`], so a game drawing with it places bodies where the window does.
+    draw: Draw,
     /// Recent positions of each body, one sample per tick.
     pub trails: TrailRing,
     /// Closed-form references, one per body, recorded the first time its id is seen.
@@ -158,7 +125,7 @@ impl TickHistory {
     /// `origin` (the render origin).
     pub fn new(world: &World, origin: DVec3) -> TickHistory {
         let mut history = TickHistory {
-            previous: Positions::default(),
+            draw: Draw::new(world, DrawMode::Interpolate),
             trails: TrailRing::new(origin),
             references: References::default(),
             passes: TargetPasses::default(),
@@ -168,7 +135,6 @@ impl TickHistory {
             origin,
             commands: 0,
         };
-        history.previous.copy_from(world);
         history.references.observe(world);
         history.trails.record(world);
         history
@@ -187,7 +153,7 @@ impl TickHistory {
     /// After a seek: the world's state is the previous one, and the trails start again there
     /// (the references, passes and timeline are the run's and stay).
     pub fn after_seek(&mut self, world: &World) {
-        self.previous.copy_from(world);
+        self.draw.restart(world);
         self.trails = TrailRing::new(self.origin);
         self.trails.record(world);
         self.probe.after_seek();
@@ -199,9 +165,9 @@ impl TickHistory {
         self.commands
     }
 
-    /// The snapshot taken before the last tick of the latest frame.
-    pub fn previous(&self) -> &Positions {
-        &self.previous
+    /// The tick of the state taken before the last tick of the latest frame.
+    pub fn previous_tick(&self) -> u64 {
+        self.draw.previous_tick()
     }
 
     /// Calls `visit(i, position)` for every body `i` of `world` (storage order) with its drawn
@@ -212,100 +178,20 @@ impl TickHistory {
     }
 
     /// Calls `visit(i, position)` for every body `i` of `world` (storage order) with its drawn
-    /// position under `at`: [`DrawMode::position`] from the snapshot's position (the current
-    /// one for a body the snapshot does not hold), the current position and the current
-    /// velocity (momentum / mass). Ids are sorted in both, so one merge pass pairs them.
-    pub fn drawn(&self, world: &World, at: DrawAt, mut visit: impl FnMut(usize, DVec3)) {
-        let bodies = world.bodies();
-        let current = bodies.positions();
-        let prev = &self.previous;
-        let dt = world.dt();
-        let mut j = 0;
-        for (i, &id) in bodies.ids().iter().enumerate() {
-            while j < prev.ids.len() && prev.ids[j] < id {
-                j += 1;
-            }
-            let now = current.get(i);
-            let before = match prev.ids.get(j) {
-                Some(&p) if p == id => prev.positions[j],
-                _ => now,
-            };
-            let v = match at.mode {
-                DrawMode::Extrapolate | DrawMode::Predict => bodies.velocity(i),
-                DrawMode::Current | DrawMode::Interpolate => DVec3::ZERO,
-            };
-            visit(i, at.mode.position(before, now, v, at.alpha, dt, at.lead));
-        }
+    /// position under `at` ([`Draw::drawn`]).
+    pub fn drawn(&self, world: &World, at: DrawAt, visit: impl FnMut(usize, DVec3)) {
+        self.draw.drawn(world, at, visit);
     }
 
-    /// The drawn position of the body at storage index `i` under `at` (what
-    /// [`TickHistory::drawn`] gives it), if there is such a body.
+    /// The drawn position of the body at storage index `i` under `at` ([`Draw::drawn_one`]).
     pub fn drawn_one(&self, world: &World, i: usize, at: DrawAt) -> Option<DVec3> {
-        let bodies = world.bodies();
-        let id = *bodies.ids().get(i)?;
-        let now = bodies.positions().get(i);
-        let before = match self.previous.ids.binary_search(&id) {
-            Ok(j) => self.previous.positions[j],
-            Err(_) => now,
-        };
-        let v = bodies.velocity(i);
-        Some(
-            at.mode
-                .position(before, now, v, at.alpha, world.dt(), at.lead),
-        )
+        self.draw.drawn_one(world, i, at)
     }
 
-    /// The sim time in ticks since tick 0 that a frame drawn at `at` shows: between the
-    /// snapshot's tick and the current one when interpolating, else the current tick plus the
-    /// draw mode's offset.
+    /// The sim time in ticks since tick 0 that a frame drawn at `at` shows
+    /// ([`Draw::drawn_ticks`]).
     pub fn drawn_ticks(&self, world: &World, at: DrawAt) -> f64 {
-        let now = world.tick() as f64;
-        match at.mode {
-            DrawMode::Interpolate => {
-                let before = self.previous.tick as f64;
-                before + at.alpha * (now - before)
-            }
-            mode => now + mode.offset(at.alpha, world.dt(), at.lead) / world.dt(),
-        }
-    }
-}
-
-/// Where a frame is drawn between (or past) the ticks: the draw mode, the clock's alpha, and
-/// for [`DrawMode::Predict`] the time predicted to the present.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DrawAt {
-    /// The draw mode.
-    pub mode: DrawMode,
-    /// The clock's fraction of a tick in the accumulator, in [0, 1).
-    pub alpha: f64,
-    /// How far after the frame's sample it is expected on screen, in sim seconds (the median
-    /// of the last frame deltas times the time scale; 0 while paused). Only
-    /// [`DrawMode::Predict`] uses it.
-    pub lead: f64,
-}
-
-impl DrawAt {
-    /// Interpolation at `alpha`: the window's draw before the loop lab, and what a headless
-    /// `--frames` run and the golden image draw.
-    pub fn interpolated(alpha: f64) -> DrawAt {
-        DrawAt {
-            mode: DrawMode::Interpolate,
-            alpha,
-            lead: 0.0,
-        }
-    }
-
-    /// The fraction along a trail's newest segment (from the tick before to the current one)
-    /// where the drawn body is: alpha when interpolating, 1 at the current tick, past 1 by the
-    /// offset in ticks when extrapolating (along the segment, so the trail meets the sphere to
-    /// within the path's curvature over the offset).
-    pub fn trail_alpha(&self, dt: f64) -> f64 {
-        match self.mode {
-            DrawMode::Interpolate => self.alpha,
-            DrawMode::Current => 1.0,
-            mode if dt > 0.0 => 1.0 + mode.offset(self.alpha, dt, self.lead) / dt,
-            _ => 1.0,
-        }
+        self.draw.drawn_ticks(world, at)
     }
 }
 
@@ -336,7 +222,7 @@ impl TickObserver for TickHistory {
     }
 
     fn before_last_tick(&mut self, world: &World) {
-        self.previous.copy_from(world);
+        self.draw.before_last_tick(world);
         self.references.observe(world);
     }
 

@@ -12,6 +12,7 @@ mod render_history;
 mod render_paths;
 mod window_aim;
 mod window_compare;
+mod window_draw;
 mod window_pacing;
 mod window_plots;
 mod window_probe;

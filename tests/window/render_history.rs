@@ -34,7 +34,7 @@ fn a_frame_of_several_ticks_interpolates_from_the_state_before_its_last_tick() {
         .frame(Duration::from_micros(218_750), &mut history)
         .unwrap();
     assert_eq!((ticks.steps, ticks.alpha), (3, 0.5));
-    assert_eq!(history.previous().tick(), 2);
+    assert_eq!(history.previous_tick(), 2);
     // Between tick 2 (x = 0.5) and tick 3 (x = 0.75), not between the frame's first and last.
     assert_eq!(
         drawn(&history, &sim.world, ticks.alpha),

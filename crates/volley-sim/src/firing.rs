@@ -215,7 +215,7 @@ pub struct Shot {
 /// ```
 /// use volley_sim::{AimMode, AimRange, bundled_scene, solve_aim};
 /// let scene = bundled_scene("drag").unwrap();
-/// let mut range = AimRange::new(&scene, bundled_scene("seed").unwrap().targets[0]);
+/// let mut range = AimRange::new(&scene, bundled_scene("seed").unwrap().targets()[0]);
 /// range.from = glam::DVec3::new(10.0, 0.0, 2.0);
 /// let shots = solve_aim(&range, AimMode::Speed(30.0)).unwrap();
 /// assert_eq!(shots.len(), 2);

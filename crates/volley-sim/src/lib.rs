@@ -100,8 +100,11 @@ mod clock;
 mod command;
 mod hash;
 
-// 5. The one loop every mode runs; `TickObserver` is its only seam.
+// 5. The one loop every mode runs; `TickObserver` is its only seam. Where to draw between its
+//    ticks: the draw modes, the measured default, and the one-call `Draw` (an observer).
 mod sim_loop;
+
+mod draw;
 
 // 6. What runs on the loop: the state table, recordings and replays, the study, the stability
 //    pre-check, firing solutions solved on the stepped trajectory, the in-memory history for
@@ -187,6 +190,10 @@ pub mod internals {
         //! Re-exported from the private module of that name.
         pub use crate::sim_loop::*;
     }
+    pub mod draw {
+        //! Re-exported from the private module of that name.
+        pub use crate::draw::*;
+    }
     pub mod firing {
         //! Re-exported from the private module of that name.
         pub use crate::firing::*;
@@ -230,6 +237,7 @@ pub use command::{
 };
 pub use contact::{Contacts, Detection, Event, EventKind, Ground, Surface, Target, Wall};
 pub use drag::{DragTable, DragTableError, Interpolation};
+pub use draw::{DEFAULT_DRAW, DEFAULT_POLICY, Draw, DrawAt, DrawMode, LEAD_WINDOW, Lead};
 pub use exact::{AimError, Arc as LaunchArc};
 pub use firing::{
     Blocked as ShotBlocked, FiringError, Holdover, HoldoverRow, Mode as AimMode, Range as AimRange,
@@ -242,7 +250,6 @@ pub use forces::{
 };
 pub use hash::state_hash;
 pub use integrate::{DEFAULT_TOLERANCE, Integrator, IntegratorInfo};
-pub use pacing::{DEFAULT_DRAW, DEFAULT_POLICY, DrawMode};
 pub use replay::{
     ErrorKind as ReplayErrorKind, FieldDiff, FirstDivergence, FlushPolicy,
     Footer as RecordingFooter, Header as RecordingHeader, KeyframeEntry, Mismatch, RecordOptions,

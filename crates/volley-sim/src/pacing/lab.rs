@@ -9,7 +9,6 @@
 
 use std::time::Duration;
 
-use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::body::BodyState;
@@ -20,82 +19,10 @@ use crate::scene::{self, Scene};
 use crate::sim_loop::{LoopError, SimLoop, TickObserver};
 use crate::world::World;
 
+pub use crate::draw::{DrawMode, LEAD_WINDOW, Lead};
+
 use super::DisplayTiming;
 use super::metrics::{FrameRecord, Metrics};
-
-/// Where a frame is drawn, given the state before and after the frame's last tick.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum DrawMode {
-    /// The state at the current tick. Shows game time `tick * dt`: on average half a tick
-    /// behind the frame's sampled time, up to a whole tick.
-    Current,
-    /// Between the previous and the current tick by the clock's alpha (Fiedler; the window's
-    /// default until the loop lab). Shows `(tick - 1 + alpha) * dt`: exactly one tick behind
-    /// the sampled time, always.
-    Interpolate,
-    /// Past the current tick by the velocity over `alpha * dt` (Unity's extrapolate). Shows
-    /// the sampled time; off by the curvature of the path over that fraction of a tick.
-    Extrapolate,
-    /// Extrapolated by the velocity to the frame's predicted present time: the sampled time
-    /// plus the median of the last 15 frame deltas, the interval after which a vsynced frame
-    /// reaches the screen (Volley's own: no display feedback is needed, only the deltas the
-    /// game already measures). Shows the expected display time; off by the curvature over up
-    /// to one refresh and a tick, and by a misprediction where frames are late.
-    Predict,
-}
-
-impl DrawMode {
-    /// Every draw mode, in the order the tables list them.
-    pub const ALL: [DrawMode; 4] = [
-        DrawMode::Current,
-        DrawMode::Interpolate,
-        DrawMode::Extrapolate,
-        DrawMode::Predict,
-    ];
-
-    /// The name the command line and the tables use.
-    pub fn name(self) -> &'static str {
-        match self {
-            DrawMode::Current => "current",
-            DrawMode::Interpolate => "interpolate",
-            DrawMode::Extrapolate => "extrapolate",
-            DrawMode::Predict => "predict",
-        }
-    }
-
-    /// The draw mode called `name`.
-    pub fn parse(name: &str) -> Option<DrawMode> {
-        DrawMode::ALL.into_iter().find(|m| m.name() == name)
-    }
-
-    /// How far past the current tick the frame is drawn, in seconds: `alpha` is the clock's
-    /// fraction of a tick, `lead` the predicted time to the present (for [`DrawMode::Predict`]).
-    pub fn offset(self, alpha: f64, dt: f64, lead: f64) -> f64 {
-        match self {
-            DrawMode::Current => 0.0,
-            DrawMode::Interpolate => (alpha - 1.0) * dt,
-            DrawMode::Extrapolate => alpha * dt,
-            DrawMode::Predict => alpha * dt + lead,
-        }
-    }
-
-    /// The drawn position from the previous and current position and the current velocity.
-    pub fn position(
-        self,
-        prev: DVec3,
-        cur: DVec3,
-        v: DVec3,
-        alpha: f64,
-        dt: f64,
-        lead: f64,
-    ) -> DVec3 {
-        match self {
-            DrawMode::Current => cur,
-            DrawMode::Interpolate => prev + (cur - prev) * alpha,
-            DrawMode::Extrapolate | DrawMode::Predict => cur + v * self.offset(alpha, dt, lead),
-        }
-    }
-}
 
 /// The moving body a run measures, whose exact position is known at any time.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -178,34 +105,6 @@ impl TickObserver for Before {
         self.prev.clear();
         self.prev
             .extend((0..world.bodies().len()).map(|i| world.bodies().state(i)));
-    }
-}
-
-/// How many recent deltas [`DrawMode::Predict`] takes the median of.
-pub const LEAD_WINDOW: usize = 15;
-
-/// [`DrawMode::Predict`]'s lead: the median of the last [`LEAD_WINDOW`] frame deltas, the
-/// interval after which a vsynced frame reaches the screen. The lab and the window both keep
-/// one, so they predict alike.
-#[derive(Clone, Debug, Default)]
-pub struct Lead {
-    deltas: std::collections::VecDeque<Duration>,
-}
-
-impl Lead {
-    /// Takes the latest frame delta, forgetting the oldest past [`LEAD_WINDOW`].
-    pub fn push(&mut self, delta: Duration) {
-        if self.deltas.len() == LEAD_WINDOW {
-            self.deltas.pop_front();
-        }
-        self.deltas.push_back(delta);
-    }
-
-    /// The median of the deltas kept (the upper one of an even count; 0 before any).
-    pub fn get(&self) -> Duration {
-        let mut v: Vec<Duration> = self.deltas.iter().copied().collect();
-        v.sort_unstable();
-        v.get(v.len() / 2).copied().unwrap_or_default()
     }
 }
 

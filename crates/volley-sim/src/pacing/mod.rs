@@ -32,19 +32,4 @@ pub use lab::{DrawMode, LEAD_WINDOW, Lead, RunConfig, Subject, run};
 pub use metrics::{Metrics, ModeMetrics, Stats};
 pub use sweep::{Choice, Row, Sweep, SweepDisplay, choose};
 
-use crate::clock::LoopPolicy;
-
-/// Volley's default loop policy, chosen by the sweep (`volley pacing`, docs/pacing/report.md):
-/// the lowest mean p99 display error of a 60 Hz orbit over the bundled display models, at no
-/// more latency than the accumulator with interpolation and with the drift the policy causes
-/// within one tick. The plain accumulator: every other policy either let game time stray more
-/// than a tick from wall time on some model (both snapping policies) or measured worse.
-/// `pacing_default_is_the_sweeps_choice` re-runs the choice and fails if this disagrees.
-pub const DEFAULT_POLICY: LoopPolicy = LoopPolicy::Accumulator;
-
-/// Volley's default draw mode, chosen with [`DEFAULT_POLICY`]: [`DrawMode::Predict`], the
-/// current tick extrapolated by the velocity to the frame's predicted display time. It beats
-/// interpolation's p99 display error on every bundled model at the same input latency; its
-/// cost is a state drawn a little ahead of any tick (through a bounce, up to a tick and a
-/// refresh past the wall before the tick that reflects it).
-pub const DEFAULT_DRAW: DrawMode = DrawMode::Predict;
+pub use crate::draw::{DEFAULT_DRAW, DEFAULT_POLICY};

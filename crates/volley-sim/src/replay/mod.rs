@@ -25,7 +25,7 @@
 //! let scene = bundled_scene("seed").unwrap();
 //! let mut sim = SimLoop::new(World::new(&scene));
 //! let mut recorder = Recorder::start(Vec::new(), &sim.world, RecordOptions::default()).unwrap();
-//! sim.run_until(27, &mut VirtualClock::Steady(scene.timestep), &mut recorder).unwrap();
+//! sim.run_until(27, &mut VirtualClock::Steady(scene.timestep()), &mut recorder).unwrap();
 //! let (bytes, _stats) = recorder.finish(&sim.world).unwrap();
 //!
 //! let recording = Recording::from_reader(std::io::Cursor::new(bytes), "seed.vrec").unwrap();

@@ -45,9 +45,9 @@ impl Scene {
     ///         spin: DVec3::ZERO,
     ///     })
     ///     .build()?;
-    /// assert_eq!(scene.bodies.len(), 1);
+    /// assert_eq!(scene.bodies().len(), 1);
     /// // The source is a scene file that reads back to the same scene.
-    /// let again = volley_sim::parse_scene(&scene.source, "again.ron", "shot")?;
+    /// let again = volley_sim::parse_scene(scene.source(), "again.ron", "shot")?;
     /// assert_eq!(again.to_ron(), scene.to_ron());
     ///
     /// // A bad value is the error a file would give, naming the field.

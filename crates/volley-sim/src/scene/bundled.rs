@@ -107,7 +107,7 @@ pub const BUNDLED: &[(&str, &str)] = &[
 ///
 /// ```
 /// let scene = volley_sim::bundled_scene("seed").unwrap();
-/// assert_eq!(scene.name, "seed");
+/// assert_eq!(scene.name(), "seed");
 /// let unknown = volley_sim::bundled_scene("no_such_scene").unwrap_err();
 /// assert!(unknown.to_string().starts_with(
 ///     "no_such_scene: no bundled scene of that name (bundled: baseball, bench/drag,"

@@ -15,7 +15,7 @@ const LAYERS: &[&[&str]] = &[
     &["world"],
     &["step"],
     &["command", "hash", "clock"],
-    &["sim_loop"],
+    &["sim_loop", "draw"],
     &[
         "table",
         "replay",

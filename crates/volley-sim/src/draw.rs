@@ -1,0 +1,367 @@
+//! Where to draw a body between (or past) the ticks: the draw modes, the measured default, and
+//! [`Draw`], which keeps what they need and gives each body's drawn position in one call.
+//!
+//! A stepped world exists only at tick boundaries; a frame is sampled between them. A draw
+//! mode picks the moment the frame shows from the state before the frame's last tick, the
+//! current one and the clock's alpha (its fraction of a tick). The loop lab (`volley pacing`,
+//! docs/pacing.md) measures every mode against the exact motion at each frame's display time;
+//! [`DEFAULT_POLICY`] and [`DEFAULT_DRAW`] are what it chose. The window draws through the
+//! same [`Draw`], so a game that draws with it places every body where the window does.
+
+use std::time::Duration;
+
+use glam::DVec3;
+
+use crate::clock::LoopPolicy;
+use crate::sim_loop::TickObserver;
+use crate::world::{BodyId, World};
+
+/// Where a frame is drawn, given the state before and after the frame's last tick.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum DrawMode {
+    /// The state at the current tick. Shows game time `tick * dt`: on average half a tick
+    /// behind the frame's sampled time, up to a whole tick.
+    Current,
+    /// Between the previous and the current tick by the clock's alpha (Fiedler; the window's
+    /// default until the loop lab). Shows `(tick - 1 + alpha) * dt`: exactly one tick behind
+    /// the sampled time, always.
+    Interpolate,
+    /// Past the current tick by the velocity over `alpha * dt` (Unity's extrapolate). Shows
+    /// the sampled time; off by the curvature of the path over that fraction of a tick.
+    Extrapolate,
+    /// Extrapolated by the velocity to the frame's predicted present time: the sampled time
+    /// plus the median of the last 15 frame deltas, the interval after which a vsynced frame
+    /// reaches the screen (Volley's own: no display feedback is needed, only the deltas the
+    /// game already measures). Shows the expected display time; off by the curvature over up
+    /// to one refresh and a tick, and by a misprediction where frames are late.
+    Predict,
+}
+
+impl DrawMode {
+    /// Every draw mode, in the order the tables list them.
+    pub const ALL: [DrawMode; 4] = [
+        DrawMode::Current,
+        DrawMode::Interpolate,
+        DrawMode::Extrapolate,
+        DrawMode::Predict,
+    ];
+
+    /// The name the command line and the tables use.
+    pub fn name(self) -> &'static str {
+        match self {
+            DrawMode::Current => "current",
+            DrawMode::Interpolate => "interpolate",
+            DrawMode::Extrapolate => "extrapolate",
+            DrawMode::Predict => "predict",
+        }
+    }
+
+    /// The draw mode called `name`.
+    pub fn parse(name: &str) -> Option<DrawMode> {
+        DrawMode::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// How far past the current tick the frame is drawn, in seconds: `alpha` is the clock's
+    /// fraction of a tick, `lead` the predicted time to the present (for [`DrawMode::Predict`]).
+    pub fn offset(self, alpha: f64, dt: f64, lead: f64) -> f64 {
+        match self {
+            DrawMode::Current => 0.0,
+            DrawMode::Interpolate => (alpha - 1.0) * dt,
+            DrawMode::Extrapolate => alpha * dt,
+            DrawMode::Predict => alpha * dt + lead,
+        }
+    }
+
+    /// The drawn position from the previous and current position and the current velocity.
+    pub fn position(
+        self,
+        prev: DVec3,
+        cur: DVec3,
+        v: DVec3,
+        alpha: f64,
+        dt: f64,
+        lead: f64,
+    ) -> DVec3 {
+        match self {
+            DrawMode::Current => cur,
+            DrawMode::Interpolate => prev + (cur - prev) * alpha,
+            DrawMode::Extrapolate | DrawMode::Predict => cur + v * self.offset(alpha, dt, lead),
+        }
+    }
+}
+
+/// Volley's default loop policy, chosen by the sweep (`volley pacing`, docs/pacing/report.md):
+/// the lowest mean p99 display error of a 60 Hz orbit over the bundled display models, at no
+/// more latency than the accumulator with interpolation and with the drift the policy causes
+/// within one tick. The plain accumulator: every other policy either let game time stray more
+/// than a tick from wall time on some model (both snapping policies) or measured worse.
+/// `pacing_default_is_the_sweeps_choice` re-runs the choice and fails if this disagrees.
+pub const DEFAULT_POLICY: LoopPolicy = LoopPolicy::Accumulator;
+
+/// Volley's default draw mode, chosen with [`DEFAULT_POLICY`]: [`DrawMode::Predict`], the
+/// current tick extrapolated by the velocity to the frame's predicted display time. It beats
+/// interpolation's p99 display error on every bundled model at the same input latency; its
+/// cost is a state drawn a little ahead of any tick (through a bounce, up to a tick and a
+/// refresh past the wall before the tick that reflects it).
+pub const DEFAULT_DRAW: DrawMode = DrawMode::Predict;
+
+/// How many recent deltas [`DrawMode::Predict`] takes the median of.
+pub const LEAD_WINDOW: usize = 15;
+
+/// [`DrawMode::Predict`]'s lead: the median of the last [`LEAD_WINDOW`] frame deltas, the
+/// interval after which a vsynced frame reaches the screen. The lab, the window and [`Draw`]
+/// all keep one, so they predict alike.
+#[derive(Clone, Debug, Default)]
+pub struct Lead {
+    deltas: std::collections::VecDeque<Duration>,
+}
+
+impl Lead {
+    /// Takes the latest frame delta, forgetting the oldest past [`LEAD_WINDOW`].
+    pub fn push(&mut self, delta: Duration) {
+        if self.deltas.len() == LEAD_WINDOW {
+            self.deltas.pop_front();
+        }
+        self.deltas.push_back(delta);
+    }
+
+    /// The median of the deltas kept (the upper one of an even count; 0 before any).
+    pub fn get(&self) -> Duration {
+        let mut v: Vec<Duration> = self.deltas.iter().copied().collect();
+        v.sort_unstable();
+        v.get(v.len() / 2).copied().unwrap_or_default()
+    }
+}
+
+/// Where a frame is drawn between (or past) the ticks: the draw mode, the clock's alpha, and
+/// for [`DrawMode::Predict`] the time predicted to the present.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrawAt {
+    /// The draw mode.
+    pub mode: DrawMode,
+    /// The clock's fraction of a tick in the accumulator, in [0, 1).
+    pub alpha: f64,
+    /// How far after the frame's sample it is expected on screen, in sim seconds (the median
+    /// of the last frame deltas times the time scale; 0 while paused). Only
+    /// [`DrawMode::Predict`] uses it.
+    pub lead: f64,
+}
+
+impl DrawAt {
+    /// Interpolation at `alpha`: the window's draw before the loop lab, and what a headless
+    /// `--frames` run and the golden image draw.
+    pub fn interpolated(alpha: f64) -> DrawAt {
+        DrawAt {
+            mode: DrawMode::Interpolate,
+            alpha,
+            lead: 0.0,
+        }
+    }
+
+    /// The fraction along a trail's newest segment (from the tick before to the current one)
+    /// where the drawn body is: alpha when interpolating, 1 at the current tick, past 1 by the
+    /// offset in ticks when extrapolating (along the segment, so the trail meets the sphere to
+    /// within the path's curvature over the offset).
+    pub fn trail_alpha(&self, dt: f64) -> f64 {
+        match self.mode {
+            DrawMode::Interpolate => self.alpha,
+            DrawMode::Current => 1.0,
+            mode if dt > 0.0 => 1.0 + mode.offset(self.alpha, dt, self.lead) / dt,
+            _ => 1.0,
+        }
+    }
+}
+
+/// Volley's measured draw in one call: the state before each frame's last tick, the lead
+/// estimate, and each body's drawn position under a draw mode. Give it to the loop as a tick
+/// observer (alone, or in a tuple with the game's own), tell it each frame's delta, and ask
+/// where to draw.
+///
+/// ```
+/// use std::time::Duration;
+/// use volley_sim::{Draw, SimLoop, World, bundled_scene};
+///
+/// let scene = bundled_scene("seed")?;
+/// let mut sim = SimLoop::new(World::new(&scene));
+/// let mut draw = Draw::measured(&sim.world);
+/// let delta = Duration::from_nanos(16_666_667); // a 60 Hz display
+/// for _ in 0..30 {
+///     let ticks = sim.frame(delta, &mut draw)?;
+///     draw.frame(delta);
+///     draw.positions(&sim.world, ticks.alpha, |i, p| assert!(p.is_finite(), "body {i}"));
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct Draw {
+    mode: DrawMode,
+    lead: Lead,
+    time_scale: f64,
+    previous: Previous,
+}
+
+/// Body positions before a frame's last tick, in id order.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Previous {
+    ids: Vec<BodyId>,
+    positions: Vec<DVec3>,
+    tick: u64,
+}
+
+impl Previous {
+    fn copy_from(&mut self, world: &World) {
+        let bodies = world.bodies();
+        self.ids.clear();
+        self.ids.extend_from_slice(bodies.ids());
+        self.positions.clear();
+        self.positions.extend(bodies.positions().iter());
+        self.tick = world.tick();
+    }
+}
+
+impl Draw {
+    /// A draw in `mode` starting at the world's current state.
+    pub fn new(world: &World, mode: DrawMode) -> Draw {
+        let mut previous = Previous::default();
+        previous.copy_from(world);
+        Draw {
+            mode,
+            lead: Lead::default(),
+            time_scale: 1.0,
+            previous,
+        }
+    }
+
+    /// A draw in Volley's measured default, [`DEFAULT_DRAW`].
+    pub fn measured(world: &World) -> Draw {
+        Draw::new(world, DEFAULT_DRAW)
+    }
+
+    /// The draw mode.
+    pub fn mode(&self) -> DrawMode {
+        self.mode
+    }
+
+    /// Draws in `mode` from the next call on.
+    pub fn set_mode(&mut self, mode: DrawMode) {
+        self.mode = mode;
+    }
+
+    /// Game seconds per wall second (1 unless the game runs slowed or sped up; 0 while
+    /// paused): the lead is wall time to the present, drawn in game time.
+    pub fn set_time_scale(&mut self, scale: f64) {
+        self.time_scale = scale;
+    }
+
+    /// Takes the frame's measured delta, for [`DrawMode::Predict`]'s lead. Call once a frame,
+    /// after the loop ran it.
+    pub fn frame(&mut self, delta: Duration) {
+        self.lead.push(delta);
+    }
+
+    /// The lead (s of game time): the median of the last [`LEAD_WINDOW`] deltas times the time
+    /// scale.
+    pub fn lead(&self) -> f64 {
+        self.lead.get().as_secs_f64() * self.time_scale
+    }
+
+    /// Where this frame is drawn at the clock's `alpha`.
+    pub fn at(&self, alpha: f64) -> DrawAt {
+        DrawAt {
+            mode: self.mode,
+            alpha,
+            lead: self.lead(),
+        }
+    }
+
+    /// Calls `visit(i, position)` for every body `i` of `world` (storage order) with its drawn
+    /// position this frame, at the clock's `alpha`.
+    pub fn positions(&self, world: &World, alpha: f64, visit: impl FnMut(usize, DVec3)) {
+        self.drawn(world, self.at(alpha), visit);
+    }
+
+    /// The drawn position of the body at storage index `i` this frame, if there is one.
+    pub fn position(&self, world: &World, i: usize, alpha: f64) -> Option<DVec3> {
+        self.drawn_one(world, i, self.at(alpha))
+    }
+
+    /// Calls `visit(i, position)` for every body `i` of `world` (storage order) with its drawn
+    /// position under `at`: [`DrawMode::position`] from the position before the frame's last
+    /// tick (the current one for a body spawned since), the current position and the current
+    /// velocity (momentum / mass). Ids are sorted in both, so one merge pass pairs them.
+    pub fn drawn(&self, world: &World, at: DrawAt, mut visit: impl FnMut(usize, DVec3)) {
+        let bodies = world.bodies();
+        let current = bodies.positions();
+        let prev = &self.previous;
+        let dt = world.dt();
+        let mut j = 0;
+        for (i, &id) in bodies.ids().iter().enumerate() {
+            while j < prev.ids.len() && prev.ids[j] < id {
+                j += 1;
+            }
+            let now = current.get(i);
+            let before = match prev.ids.get(j) {
+                Some(&p) if p == id => prev.positions[j],
+                _ => now,
+            };
+            let v = match at.mode {
+                DrawMode::Extrapolate | DrawMode::Predict => bodies.velocity(i),
+                DrawMode::Current | DrawMode::Interpolate => DVec3::ZERO,
+            };
+            visit(i, at.mode.position(before, now, v, at.alpha, dt, at.lead));
+        }
+    }
+
+    /// The drawn position of the body at storage index `i` under `at` (what [`Draw::drawn`]
+    /// gives it), if there is such a body.
+    pub fn drawn_one(&self, world: &World, i: usize, at: DrawAt) -> Option<DVec3> {
+        let bodies = world.bodies();
+        let id = *bodies.ids().get(i)?;
+        let now = bodies.positions().get(i);
+        let before = match self.previous.ids.binary_search(&id) {
+            Ok(j) => self.previous.positions[j],
+            Err(_) => now,
+        };
+        let v = bodies.velocity(i);
+        Some(
+            at.mode
+                .position(before, now, v, at.alpha, world.dt(), at.lead),
+        )
+    }
+
+    /// The game time in ticks since tick 0 that a frame drawn at `at` shows: between the tick
+    /// before the frame's last and the current one when interpolating, else the current tick
+    /// plus the draw mode's offset.
+    pub fn drawn_ticks(&self, world: &World, at: DrawAt) -> f64 {
+        let now = world.tick() as f64;
+        match at.mode {
+            DrawMode::Interpolate => {
+                let before = self.previous.tick as f64;
+                before + at.alpha * (now - before)
+            }
+            mode => now + mode.offset(at.alpha, world.dt(), at.lead) / world.dt(),
+        }
+    }
+
+    /// The world's current state becomes the state before the last tick (after a seek or a
+    /// reset: nothing to draw from but where the bodies are).
+    pub fn restart(&mut self, world: &World) {
+        self.previous.copy_from(world);
+    }
+
+    /// The tick the state before the frame's last tick was taken at.
+    pub fn previous_tick(&self) -> u64 {
+        self.previous.tick
+    }
+
+    /// How many bodies that state holds.
+    pub fn previous_len(&self) -> usize {
+        self.previous.ids.len()
+    }
+}
+
+impl TickObserver for Draw {
+    fn before_last_tick(&mut self, world: &World) {
+        self.previous.copy_from(world);
+    }
+}
