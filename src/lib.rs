@@ -8,9 +8,10 @@
 
 // The simulation, named rather than globbed: its game-facing surface as the crate root has it,
 // and the (hidden) modules the window, the CLI, the tests and the benches reach into.
+pub use volley_lab::{pacing, stability, study, table};
 pub use volley_sim::internals::{
     atmosphere, body, clock, command, contact, drag, draw, exact, firing, forces, hash, integrate,
-    pacing, replay, rng, scene, sim_loop, simd, stability, step, study, table, timeline, world,
+    replay, rng, scene, sim_loop, simd, step, timeline, world,
 };
 pub use volley_sim::{
     AimMode, AimRange, Atmosphere, Bodies, BodyId, BodySpec, BodyState, ClockError, Command,

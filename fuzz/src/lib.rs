@@ -18,14 +18,14 @@
 
 use std::io::Cursor;
 
+use volley_lab::pacing::{DisplayTiming, read_capture};
+use volley_lab::study::shard::{ShardResult, merge};
 use volley_sim::World;
 use volley_sim::internals::command::{Command, parse_script};
 use volley_sim::internals::hash;
-use volley_sim::internals::pacing::{DisplayTiming, read_capture};
 use volley_sim::internals::replay::format::{CRC_LEN, HEAD_LEN, PREAMBLE_LEN, head_check};
 use volley_sim::internals::replay::{Recording, Replay};
 use volley_sim::internals::scene::{self, Scene};
-use volley_sim::internals::study::shard::{ShardResult, merge};
 
 /// Most bodies [`scene()`] builds a world for (more are parsed and validated, not built).
 pub const MAX_FUZZ_BODIES: usize = 4096;
@@ -287,7 +287,7 @@ pub fn shard(data: &[u8]) {
 /// same text and reads again, and merging it alone never panics (it is refused unless it is
 /// the whole sweep, and then gives one row per job).
 pub fn pacing_shard(data: &[u8]) {
-    use volley_sim::internals::pacing::shard::{PacingShard, merge as merge_pacing};
+    use volley_lab::pacing::shard::{PacingShard, merge as merge_pacing};
     let Some(text) = text(data) else { return };
     if let Ok(part) = PacingShard::from_json(text, "fuzz.json") {
         let back = PacingShard::from_json(&part.to_json(), "back.json")
@@ -301,9 +301,9 @@ pub fn pacing_shard(data: &[u8]) {
 
 /// **PresentMon captures** (the loop lab's `--display FILE.csv`): read for the application with
 /// the most rows, and for `dwm.exe` by name; a capture that reads holds at most
-/// [`volley_sim::internals::pacing::capture::MAX_CAPTURE_PRESENTS`] presents, its `sampled` times never
+/// [`volley_lab::pacing::capture::MAX_CAPTURE_PRESENTS`] presents, its `sampled` times never
 /// decrease from 0, and every display time is at or after its present and within
-/// [`volley_sim::internals::pacing::capture::MAX_CAPTURE_SPAN`] of the first.
+/// [`volley_lab::pacing::capture::MAX_CAPTURE_SPAN`] of the first.
 pub fn capture(data: &[u8]) {
     let Some(text) = text(data) else { return };
     for application in [None, Some("dwm.exe")] {
@@ -314,7 +314,7 @@ pub fn capture(data: &[u8]) {
 }
 
 fn check_timing(timing: &DisplayTiming) {
-    use volley_sim::internals::pacing::capture::{MAX_CAPTURE_PRESENTS, MAX_CAPTURE_SPAN};
+    use volley_lab::pacing::capture::{MAX_CAPTURE_PRESENTS, MAX_CAPTURE_SPAN};
     assert!(
         timing.name.starts_with("fuzz.csv ("),
         "a capture's name is its file and application: {}",

@@ -109,7 +109,7 @@ fn window_script_regressions() {
 #[test]
 fn shard_regressions() {
     reader_sorts("shard", |text, name| {
-        volley_sim::internals::study::shard::ShardResult::from_json(text, name).is_ok()
+        volley_lab::study::shard::ShardResult::from_json(text, name).is_ok()
     });
     replay("shard", volley_fuzz::shard);
 }
@@ -117,7 +117,7 @@ fn shard_regressions() {
 #[test]
 fn pacing_shard_regressions() {
     reader_sorts("pacing_shard", |text, name| {
-        volley_sim::internals::pacing::shard::PacingShard::from_json(text, name).is_ok()
+        volley_lab::pacing::shard::PacingShard::from_json(text, name).is_ok()
     });
     replay("pacing_shard", volley_fuzz::pacing_shard);
 }
@@ -164,7 +164,7 @@ fn properties_hold_on_the_valid_seeds() {
     );
     let capture =
         std::fs::read_to_string(root.join("assets/captures/presentmon_test_case_4.csv")).unwrap();
-    volley_sim::internals::pacing::read_capture(&capture, "presentmon_test_case_4.csv", None)
+    volley_lab::pacing::read_capture(&capture, "presentmon_test_case_4.csv", None)
         .expect("the shipped capture reads");
     volley_fuzz::capture(capture.as_bytes());
 }

@@ -3,6 +3,6 @@
 //! loop's `RealClock`, the recorder's flush timer, the study's timings); a tick never does.
 
 #[cfg(not(all(target_arch = "wasm32", feature = "web")))]
-pub(crate) use std::time::Instant;
+pub use std::time::Instant;
 #[cfg(all(target_arch = "wasm32", feature = "web"))]
-pub(crate) use web_time::Instant;
+pub use web_time::Instant;

@@ -146,9 +146,9 @@ pub const DOPRI_MAX_ATTEMPTS: u32 = 10_000;
 pub const DEFAULT_TOLERANCE: f64 = 1e-8;
 
 /// Forest-Ruth's outer substep coefficient `1 / (2 - 2^(1/3))`.
-pub(crate) const FOREST_RUTH_C1: f64 = 1.351_207_191_959_657_8;
+pub const FOREST_RUTH_C1: f64 = 1.351_207_191_959_657_8;
 /// Forest-Ruth's middle (backward) substep coefficient `1 - 2 c1`.
-pub(crate) const FOREST_RUTH_C2: f64 = 1.0 - 2.0 * FOREST_RUTH_C1;
+pub const FOREST_RUTH_C2: f64 = 1.0 - 2.0 * FOREST_RUTH_C1;
 
 /// Facts about an integrator, as used by the stability pre-check and the study.
 #[derive(Clone, Copy, Debug, PartialEq)]

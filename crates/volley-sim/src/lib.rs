@@ -19,17 +19,23 @@
 //!   in the [`World`], and parallel work is combined in a fixed order.
 //!
 //! ## What a game uses
-//! Everything a game names is at this root, one path per type:
-//! - **A world and its scene**: [`World`] (its [`Bodies`], [`BodyId`], [`BodyState`]), a
-//!   [`Scene`] from a file ([`load_scene`], [`parse_scene`]), a bundled one ([`bundled_scene`])
-//!   or code ([`Scene::builder`]); its parts [`BodySpec`], [`Launcher`], [`Volley`], [`Guard`];
-//!   forces ([`Forces`], [`ForceKind`], [`Spring`], [`PointMass`], [`MachDrag`] with its
-//!   [`DragTable`], [`Atmosphere`] and [`SpinLift`], a motor's [`Thrust`], a game's own
-//!   [`ForceTerm`] with [`register_force_term`]); contacts ([`Ground`],
-//!   [`Wall`], [`Target`], [`Detection`]) and what they report ([`Event`], [`EventKind`]).
-//! - **The loop**: [`SimLoop`] and its [`TickObserver`]s, the [`FixedClock`] with its
-//!   [`LoopPolicy`], frame sources ([`RealClock`], [`VirtualClock`]), and where to draw between
-//!   ticks ([`DrawMode`]; Volley's measured defaults [`DEFAULT_POLICY`] and [`DEFAULT_DRAW`]).
+//! Everything a game names is at this root, one path per type, and the root is closed: every
+//! type a root item's signature or public field names is exported here too (the crate denies
+//! `unnameable_types`, so a leak fails its build).
+//! - **A world and its scene**: [`World`] (its [`Bodies`], [`BodyId`], [`BodyState`], its
+//!   [`State`] for rollback with [`World::restore`]), a [`Scene`] from a file ([`load_scene`],
+//!   [`parse_scene`], with the game's own terms [`load_scene_with`], [`parse_scene_with`]), a
+//!   bundled one ([`bundled_scene`]) or code ([`Scene::builder`]), changed only through
+//!   [`Scene::edit`], which checks it again; its parts [`BodySpec`], [`Launcher`], [`Volley`],
+//!   [`Guard`]; forces ([`Forces`], [`ForceKind`], [`Spring`], [`PointMass`], [`MachDrag`] with
+//!   its [`DragCurve`], [`DragSize`], [`AirModel`], [`Wind`] and [`SpinLift`], a motor's
+//!   [`Thrust`], the game's own [`ForceTerm`]s as values in [`ForceTerms`], given a
+//!   [`ForceInput`]); contacts ([`Ground`], [`Wall`], [`Target`], [`Detection`]) and what they
+//!   report ([`Event`], [`EventKind`]).
+//! - **The loop and the draw**: [`SimLoop`] and its [`TickObserver`]s, the [`FixedClock`] with
+//!   its [`LoopPolicy`], frame sources ([`RealClock`], [`VirtualClock`]), and where to draw
+//!   between ticks in one call, [`Draw`] (its [`DrawMode`]s; Volley's measured defaults
+//!   [`DEFAULT_POLICY`] and [`DEFAULT_DRAW`]).
 //! - **Input**: [`Command`]s, applied at tick boundaries, and command scripts
 //!   ([`parse_script`]).
 //! - **Checking a run**: [`state_hash`], recordings ([`Recorder`], [`Recording`]) and their
@@ -42,10 +48,12 @@
 //! crate's wasm32 build imports nothing from its host.
 //!
 //! docs/library.md walks through them. The modules behind these names are private. Volley's own
-//! window, CLI, tests, benches and fuzz targets reach them through one hidden module,
-//! `volley_sim::internals`: the per-body columns, vector widths, the step's chunking, the study,
-//! the stability pre-check, the loop lab's sweep and their performance knobs, which are not part
-//! of the surface a game should build on. Their layers are in docs/contributing.md.
+//! window, CLI, lab, tests, benches and fuzz targets reach them through one module that exists
+//! only with the `internals` feature, `volley_sim::internals`: the per-body columns, vector
+//! widths, the step's chunking, the recording format's parts and their performance knobs,
+//! which are not part of the surface a game should build on. Their layers are in
+//! docs/contributing.md. The measuring lab (the study, the stability pre-check, the loop lab's
+//! sweeps, the state table) is its own crate, `volley-lab`, which a game does not compile.
 //!
 //! ```
 //! use volley_sim::{SimLoop, VirtualClock, World, bundled_scene};
@@ -106,20 +114,17 @@ mod sim_loop;
 
 mod draw;
 
-// 6. What runs on the loop: the state table, recordings and replays, the study, the stability
-//    pre-check, firing solutions solved on the stepped trajectory, the in-memory history for
-//    rewinding.
+// 6. What runs on the loop: recordings and replays, firing solutions solved on the stepped
+//    trajectory, the in-memory history for rewinding. (The lab, the study, the stability
+//    pre-check, the pacing sweeps and the state table, is its own crate, volley-lab.)
 mod firing;
-mod pacing;
 mod replay;
-mod stability;
-mod study;
-mod table;
 mod timeline;
 
-/// Volley's own internals, for its window, CLI, tests, benches and fuzz targets: every module
-/// behind the names above, with the per-body columns, vector widths, the step's chunking, the
-/// study, the stability pre-check and the loop lab's sweep, and their performance knobs.
+/// Volley's own internals, for its window, CLI, lab, tests, benches and fuzz targets (with the
+/// `internals` feature only): every module behind the names above, with the per-body columns,
+/// vector widths, the step's chunking, the recording format's parts, and their performance
+/// knobs.
 ///
 /// Not part of the surface a game builds on: paths here change without notice. A game that
 /// finds itself reaching in for something is telling us the root lacks it.
@@ -129,6 +134,10 @@ pub mod internals {
     pub mod body {
         //! Re-exported from the private module of that name.
         pub use crate::body::*;
+    }
+    pub mod instant {
+        //! Re-exported from the private module of that name.
+        pub use crate::instant::*;
     }
     pub mod rng {
         //! Re-exported from the private module of that name.
@@ -198,25 +207,9 @@ pub mod internals {
         //! Re-exported from the private module of that name.
         pub use crate::firing::*;
     }
-    pub mod pacing {
-        //! Re-exported from the private module of that name.
-        pub use crate::pacing::*;
-    }
     pub mod replay {
         //! Re-exported from the private module of that name.
         pub use crate::replay::*;
-    }
-    pub mod stability {
-        //! Re-exported from the private module of that name.
-        pub use crate::stability::*;
-    }
-    pub mod study {
-        //! Re-exported from the private module of that name.
-        pub use crate::study::*;
-    }
-    pub mod table {
-        //! Re-exported from the private module of that name.
-        pub use crate::table::*;
     }
     pub mod timeline {
         //! Re-exported from the private module of that name.

@@ -12,6 +12,7 @@
 use std::time::Duration;
 
 use glam::DVec3;
+use volley_lab::stability;
 use volley_sim::internals::clock::{DEFAULT_MAX_FRAME_DELTA, DEFAULT_MAX_STEPS_PER_FRAME};
 use volley_sim::internals::contact::Surface;
 use volley_sim::internals::exact::ground_impact_time;
@@ -21,7 +22,6 @@ use volley_sim::internals::forces::{
     SpinDecay, ThrustDirection,
 };
 use volley_sim::internals::scene::check_integrator;
-use volley_sim::internals::stability;
 use volley_sim::{
     Atmosphere, Detection, Event, EventKind, Integrator, Scene, SimLoop, World, bundled_scene,
 };

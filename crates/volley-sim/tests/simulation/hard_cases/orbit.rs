@@ -1,10 +1,10 @@
 //! Hard cases 3, 11 and 12: a circular orbit for 1e6 steps at h = T/100; Kepler's equation; an
 //! eccentric orbit judged at periapsis.
 
+use volley_lab::stability;
 use volley_sim::Integrator::{self, *};
 use volley_sim::internals::clock::VirtualClock;
 use volley_sim::internals::sim_loop::{ObserverError, TickObserver};
-use volley_sim::internals::stability;
 use volley_sim::{LoopError, SimLoop, World};
 
 use super::{load, with};
@@ -236,9 +236,7 @@ fn eccentric_orbit_stability_is_judged_at_periapsis() {
     // Periapsis from the start at apoapsis: a = 1 / (2/r - v^2/mu), r_p = 2 a - r_a.
     let a = 1.0 / (2.0 / b.position.length() - b.velocity.length_squared() / mu);
     let rp = 2.0 * a - b.position.length();
-    let s = volley_sim::internals::stability::Stiffness::of_body(
-        &scene, b.mass, b.position, b.velocity,
-    );
+    let s = volley_lab::stability::Stiffness::of_body(&scene, b.mass, b.position, b.velocity);
     let w2 = mu / (rp * rp * rp);
     assert!((s.w2_nl - w2).abs() <= 1e-12 * w2, "{} vs {w2}", s.w2_nl);
     // At dt = 0.07 s: w h = 2.21 at periapsis, past the symplectic methods' 2 and inside

@@ -5,8 +5,8 @@
 //! so the energy of explicit Euler, midpoint, RK4 and implicit Euler changes by exactly
 //! |R(i w h)|^2 per step, and the guard (10x the start energy) trips at the first tick past it.
 
+use volley_lab::stability;
 use volley_sim::Integrator::{self, *};
-use volley_sim::internals::stability;
 use volley_sim::internals::world::DivergenceCause;
 
 use super::{allowed, diverged, load, run, ticks_to_pass, with};

@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use crate::integrate::Integrator;
+use volley_sim::internals::integrate::Integrator;
 
 use super::lab::{DrawMode, Subject};
 use super::sweep::{Cell, Row, cells, choose};

@@ -1,11 +1,14 @@
 //! The loop lab's policies and displays, driven through the real loop: what a policy may change
 //! (ticks per frame, where a frame is drawn) and what it may not (any tick's state).
 
+#[path = "../../volley-sim/tests/support/mod.rs"]
+mod support;
+
 use std::time::Duration;
 
+use volley_lab::pacing::{DisplayModel, DrawMode, RunConfig, Subject, run};
 use volley_sim::internals::clock::LoopPolicy;
 use volley_sim::internals::hash;
-use volley_sim::internals::pacing::{DisplayModel, DrawMode, RunConfig, Subject, run};
 use volley_sim::internals::sim_loop::TickObserver;
 use volley_sim::{Integrator, ObserverError, SimLoop, World};
 
@@ -152,7 +155,7 @@ fn a_hitch_is_recovered_as_the_clock_documents() {
 fn pacing_default_is_the_sweeps_choice() {
     // Volley's defaults are what the loop lab's ranking puts first (docs/pacing/report.md): the
     // bundled display models, every policy, a 60 Hz orbit under velocity Verlet, both phases.
-    use volley_sim::internals::pacing::{DEFAULT_DRAW, DEFAULT_POLICY, Sweep, choose, sweep};
+    use volley_lab::pacing::{DEFAULT_DRAW, DEFAULT_POLICY, Sweep, choose, sweep};
     let mut lab = Sweep::bundled(Sweep::bundled_displays(sweep::SECONDS));
     lab.rates = vec![60.0];
     lab.integrators = vec![Integrator::VelocityVerlet];
@@ -192,8 +195,8 @@ fn pacing_default_is_the_sweeps_choice() {
 
 /// A small sweep: two displays, two rates, every policy, one integrator and subject, both
 /// phases (40 jobs).
-fn small_sweep() -> volley_sim::internals::pacing::Sweep {
-    use volley_sim::internals::pacing::{Sweep, SweepDisplay};
+fn small_sweep() -> volley_lab::pacing::Sweep {
+    use volley_lab::pacing::{Sweep, SweepDisplay};
     let displays = ["59.94", "144"]
         .iter()
         .map(|n| SweepDisplay::model(n, &DisplayModel::named(n).unwrap(), 5.0))
@@ -207,8 +210,8 @@ fn small_sweep() -> volley_sim::internals::pacing::Sweep {
 
 #[test]
 fn a_sweep_in_shards_merges_to_the_one_machine_rows() {
-    use volley_sim::internals::pacing::shard::{PacingShard, merge};
-    use volley_sim::internals::study::Shard;
+    use volley_lab::pacing::shard::{PacingShard, merge};
+    use volley_lab::study::Shard;
     let sweep = small_sweep();
     let whole = sweep.run().unwrap();
     assert_eq!(whole.len(), 2 * 2 * 5 * 2);

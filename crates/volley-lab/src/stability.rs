@@ -16,7 +16,7 @@
 //!
 //! Gravity and constant forces shift the equilibrium and add nothing. For each integrator the
 //! one-step amplification matrix `M` of the test system at the sub-step `h = dt / substeps` is
-//! formed by applying that integrator's update (the same algebra as [`crate::integrate`], on
+//! formed by applying that integrator's update (the same algebra as [`volley_sim::internals::integrate`], on
 //! scalars; a unit test checks the two agree) to the basis states, and the step is stable when
 //! the spectral radius `rho(M) <= 1`. For the pure cases this reproduces the limits of
 //! [`Integrator::info`]: `w h < 2` for symplectic Euler and Verlet, `2.828` for RK4, never for
@@ -29,9 +29,9 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::integrate::{FOREST_RUTH_C1, FOREST_RUTH_C2, Integrator};
-use crate::scene::Scene;
-use crate::world::World;
+use volley_sim::internals::integrate::{FOREST_RUTH_C1, FOREST_RUTH_C2, Integrator};
+use volley_sim::internals::scene::Scene;
+use volley_sim::internals::world::World;
 
 mod growth;
 mod report;
@@ -82,7 +82,7 @@ impl Stiffness {
     /// left out: it judges the launch state, and a motor that speeds the body up and burns its
     /// mass away raises the drag's rate past it (for a rocket the verdict is a lower bound).
     pub fn of_spinning(scene: &Scene, m: f64, p0: DVec3, v0: DVec3, spin: f64) -> Stiffness {
-        let f = &scene.forces;
+        let f = &scene.forces();
         let mut s = Stiffness {
             k_lin: f.drag_rate(m),
             ..Stiffness::default()
@@ -108,7 +108,8 @@ impl Stiffness {
             // As quadratic drag with the curve's largest coefficient at the ground's density,
             // at the larger of the speed through the air at launch and the terminal speed.
             let mut q = d.worst_quadratic_rate(m);
-            if let (Some(sp), crate::forces::DragSize::Diameter { diameter, .. }) = (d.spin, d.size)
+            if let (Some(sp), volley_sim::internals::forces::DragSize::Diameter { diameter, .. }) =
+                (d.spin, d.size)
             {
                 let (density, _) = d.air.at(0.0);
                 let lift = if spin > 0.0 {
@@ -200,7 +201,7 @@ pub struct StabilityReport {
 
 /// Checks `scene` at its own timestep, substeps and integrator.
 pub fn check(scene: &Scene) -> StabilityReport {
-    check_at(scene, scene.dt(), scene.substeps, scene.integrator)
+    check_at(scene, scene.dt(), scene.substeps(), scene.integrator())
 }
 
 /// Checks a running world (its integrator may have been switched by a command).
@@ -218,16 +219,16 @@ pub fn check_world(world: &World) -> StabilityReport {
 pub fn check_at(scene: &Scene, dt: f64, substeps: u32, chosen: Integrator) -> StabilityReport {
     let substeps = substeps.max(1);
     let h = dt / f64::from(substeps);
-    let launcher = scene.launcher.body();
+    let launcher = scene.launcher().body();
     let bodies: Vec<Stiffness> = scene
-        .bodies
+        .bodies()
         .iter()
         .chain(std::iter::once(&launcher))
         .map(|b| Stiffness::of_spinning(scene, b.mass, b.position, b.velocity, b.spin.length()))
         .collect();
     let allowed = Integrator::ALL
         .into_iter()
-        .filter(|i| crate::scene::check_integrator(*i, &scene.forces).is_ok());
+        .filter(|i| volley_sim::internals::scene::check_integrator(*i, &scene.forces()).is_ok());
     let verdicts = allowed
         .map(|integrator| verdict(integrator, &bodies, h, dt))
         .collect();
@@ -242,11 +243,11 @@ pub fn check_at(scene: &Scene, dt: f64, substeps: u32, chosen: Integrator) -> St
             _ => Some((i, s)),
         });
     StabilityReport {
-        scene: scene.name.clone(),
+        scene: scene.name().to_string(),
         dt,
         substeps,
         chosen,
-        body_count: scene.bodies.len(),
+        body_count: scene.bodies().len(),
         stiffest,
         verdicts,
     }

@@ -1,6 +1,6 @@
 //! The observed order of accuracy, and the cheapest setting that meets a tolerance.
 
-use crate::integrate::Integrator;
+use volley_sim::internals::integrate::Integrator;
 
 use super::reference::Reference;
 use super::{Outcome, StudyPoint};

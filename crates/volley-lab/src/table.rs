@@ -9,9 +9,9 @@
 
 use std::io::Write;
 
-use crate::contact::{Event, EventKind, Surface};
-use crate::sim_loop::{ObserverError, TickObserver};
-use crate::world::World;
+use volley_sim::internals::contact::{Event, EventKind, Surface};
+use volley_sim::internals::sim_loop::{ObserverError, TickObserver};
+use volley_sim::internals::world::World;
 
 /// Output format of the state table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -77,7 +77,7 @@ impl Summary {
         Summary {
             ticks: world.tick(),
             time: world.time(),
-            hash: crate::hash::hex(crate::hash::state_hash(world)),
+            hash: volley_sim::internals::hash::hex(volley_sim::internals::hash::state_hash(world)),
             bodies: world.bodies().len(),
             integrator: world.integrator().name().to_string(),
             dt: world.dt(),
@@ -221,7 +221,7 @@ impl<W: Write> TickObserver for TableWriter<W> {
     /// steps worlds with contacts tick by tick).
     fn next_needed_tick(&self, tick: u64) -> u64 {
         if self.rows {
-            crate::sim_loop::next_multiple(tick, self.every)
+            volley_sim::internals::sim_loop::next_multiple(tick, self.every)
         } else {
             u64::MAX
         }

@@ -2,7 +2,7 @@
 
 use std::time::Duration;
 
-use crate::rng::SplitMix64;
+use volley_sim::internals::rng::SplitMix64;
 
 /// One presented frame of a display timing, in wall-clock time from the timing's start.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

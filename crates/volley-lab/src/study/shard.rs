@@ -386,18 +386,18 @@ pub fn merge(parts: &[(String, ShardResult)]) -> Result<StudyReport, MergeError>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrate::Integrator;
     use crate::study::{self, run_shard};
+    use volley_sim::internals::integrate::Integrator;
 
     /// Quadratic drag with no ground: the extrapolation reference, and no exact point.
-    fn scene() -> crate::scene::Scene {
+    fn scene() -> volley_sim::internals::scene::Scene {
         let text = "Scene(dt: 0.1, duration: 2.0, integrator: Rk4, forces: [Gravity((0, 0, \
                     -9.81)), QuadraticDrag(0.05)], bodies: [(mass: 1, position: (0, 0, 1), \
                     launch: Velocity((12.0, 0, 15.0)))])";
-        crate::scene::parse(text, "air.ron", "air").unwrap()
+        volley_sim::internals::scene::parse(text, "air.ron", "air").unwrap()
     }
 
-    fn config(scene: &crate::scene::Scene) -> StudyConfig {
+    fn config(scene: &volley_sim::internals::scene::Scene) -> StudyConfig {
         StudyConfig {
             integrators: vec![Integrator::ExplicitEuler, Integrator::Rk4],
             dts: vec![0.1, 0.05, 0.025],

@@ -11,15 +11,15 @@ use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
 
-use crate::body::BodyState;
-use crate::clock::LoopPolicy;
-use crate::exact::closed_form;
-use crate::integrate::Integrator;
-use crate::scene::{self, Scene};
-use crate::sim_loop::{LoopError, SimLoop, TickObserver};
-use crate::world::World;
+use volley_sim::internals::body::BodyState;
+use volley_sim::internals::clock::LoopPolicy;
+use volley_sim::internals::exact::closed_form;
+use volley_sim::internals::integrate::Integrator;
+use volley_sim::internals::scene::{self, Scene};
+use volley_sim::internals::sim_loop::{LoopError, SimLoop, TickObserver};
+use volley_sim::internals::world::World;
 
-pub use crate::draw::{DrawMode, LEAD_WINDOW, Lead};
+pub use volley_sim::internals::draw::{DrawMode, LEAD_WINDOW, Lead};
 
 use super::DisplayTiming;
 use super::metrics::{FrameRecord, Metrics};
@@ -72,7 +72,9 @@ impl Subject {
         };
         let mut scene = scene::parse(&text, "pacing.ron", self.name())
             .expect("the loop lab's own scene text is valid");
-        scene.integrator = integrator;
+        scene
+            .set_integrator(integrator)
+            .expect("every integrator runs the loop lab's subjects (a point mass, gravity)");
         scene
     }
 }

@@ -1,10 +1,13 @@
 //! The stability pre-check: its verdicts follow the linearised scene, its suggestions work,
 //! and the runs it calls unstable do diverge.
 
+#[path = "../../volley-sim/tests/support/mod.rs"]
+mod support;
+
+use volley_lab::stability::{self, Stiffness};
 use volley_sim::Integrator::{self, *};
 use volley_sim::internals::clock::VirtualClock;
 use volley_sim::internals::scene::{self, Scene};
-use volley_sim::internals::stability::{self, Stiffness};
 use volley_sim::{Command, SimLoop, World};
 
 fn load(name: &str) -> Scene {

@@ -5,7 +5,7 @@ use super::*;
 fn error_messages_are_pinned() {
     let text = "Scene(dt: 0.01, integrator: Rk4, forces: [Gravity((0, 0, -9.81)), \
                 QuadraticDrag(0.1)], bodies: [(mass: 1, position: (0, 0, 1))])";
-    let scene = crate::scene::parse(text, "inline.ron", "inline").unwrap();
+    let scene = volley_sim::internals::scene::parse(text, "inline.ron", "inline").unwrap();
     let good = StudyConfig {
         timing: false,
         until: 1.0,
@@ -35,14 +35,14 @@ fn error_messages_are_pinned() {
             with(|c| c.dts.push(-2.0)),
             StudyError::Value(InvalidValue {
                 field: "dt".into(),
-                problem: crate::scene::ValueProblem::NotPositive(-2.0),
+                problem: volley_sim::internals::scene::ValueProblem::NotPositive(-2.0),
             }),
             "dt: expected a finite number > 0, got -2".into(),
         ),
         (
             with(|c| c.integrators.push(Integrator::Exact)),
             StudyError::Integrator(IntegratorError::NoClosedForm(
-                crate::forces::ForceKind::QuadraticDrag,
+                volley_sim::internals::forces::ForceKind::QuadraticDrag,
             )),
             format!("integrators: {no_closed_form}"),
         ),
@@ -71,7 +71,7 @@ fn error_messages_are_pinned() {
     }
     // A reference that would need more substeps than a scene may have: with a ground and
     // quadratic drag the reference is RK4 at 16 times the finest dt's rate.
-    let grounded = crate::scene::parse(
+    let grounded = volley_sim::internals::scene::parse(
         &text.replace(
             "bodies:",
             "ground: (height: 0.0, restitution: 0.5), bodies:",
@@ -90,7 +90,9 @@ fn error_messages_are_pinned() {
         error.to_string(),
         "substeps: expected 1 to 10000, got 16000"
     );
-    let loop_error = LoopError::Observer(crate::sim_loop::ObserverError("disk full".into()));
+    let loop_error = LoopError::Observer(volley_sim::internals::sim_loop::ObserverError(
+        "disk full".into(),
+    ));
     let cases = [
         (
             StudyError::Reference {

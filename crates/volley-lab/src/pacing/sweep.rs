@@ -6,10 +6,10 @@ use std::time::Duration;
 
 use rayon::prelude::*;
 
-use crate::clock::LoopPolicy;
-use crate::integrate::Integrator;
-use crate::sim_loop::LoopError;
 use crate::study::shard::Shard;
+use volley_sim::internals::clock::LoopPolicy;
+use volley_sim::internals::integrate::Integrator;
+use volley_sim::internals::sim_loop::LoopError;
 
 use super::lab::{DrawMode, RunConfig, Subject, run};
 use super::metrics::Metrics;

@@ -59,18 +59,18 @@ pub mod shard;
 use std::sync::Mutex;
 use std::time::Duration;
 
-use crate::instant::Instant;
+use volley_sim::internals::instant::Instant;
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::clock::VirtualClock;
-use crate::exact::ExtrapolationError;
-use crate::integrate::Integrator;
-use crate::scene::{IntegratorError, InvalidValue, Scene};
-use crate::sim_loop::{LoopError, SimLoop};
 use crate::stability;
-use crate::world::{Divergence, World};
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::exact::ExtrapolationError;
+use volley_sim::internals::integrate::Integrator;
+use volley_sim::internals::scene::{IntegratorError, InvalidValue, Scene};
+use volley_sim::internals::sim_loop::{LoopError, SimLoop};
+use volley_sim::internals::world::{Divergence, World};
 
 pub use fit::OrderFit;
 pub use measure::{EnergyDrift, Errors, EventErrors};
@@ -111,7 +111,7 @@ impl StudyConfig {
                 .filter(|i| *i != Integrator::Exact)
                 .collect(),
             dts: (0..6).map(|k| scene.dt() / f64::from(1u32 << k)).collect(),
-            until: scene.start_time + scene.duration,
+            until: scene.start_time() + scene.duration(),
             tolerance: None,
             timing: true,
             min_repeats: 3,
@@ -310,11 +310,12 @@ pub fn validate(scene: &Scene, config: &StudyConfig) -> Result<(), StudyError> {
         scene.clone().set_dt(dt).map_err(StudyError::Value)?;
     }
     for &i in &config.integrators {
-        crate::scene::check_integrator(i, &scene.forces).map_err(StudyError::Integrator)?;
+        volley_sim::internals::scene::check_integrator(i, &scene.forces())
+            .map_err(StudyError::Integrator)?;
     }
-    if !(config.until.is_finite() && config.until > scene.start_time) {
+    if !(config.until.is_finite() && config.until > scene.start_time()) {
         return Err(StudyError::Until {
-            start: scene.start_time,
+            start: scene.start_time(),
             until: config.until,
         });
     }
@@ -397,7 +398,7 @@ pub fn run_shard(
         let dt_text = output::sci(at_dt.dt());
         Tally::tell(&tally, format!("reference at dt = {dt_text}"));
         let trajectory = reference::build(&at_dt, ticks, stride, finest)?;
-        let check = stability::check_at(&at_dt, at_dt.dt(), at_dt.substeps, at_dt.integrator);
+        let check = stability::check_at(&at_dt, at_dt.dt(), at_dt.substeps(), at_dt.integrator());
         let here: Vec<usize> = owned.iter().copied().filter(|k| k / per_dt == d).collect();
         let one = |k: usize| -> Result<(usize, StudyPoint, Scene), StudyError> {
             let integrator = config.integrators[k % per_dt];
@@ -443,13 +444,13 @@ pub fn run_shard(
         version: shard::VERSION,
         shard,
         study: shard::StudyIdentity {
-            scene: scene.name.clone(),
-            source: scene.source.clone(),
-            substeps: scene.substeps,
+            scene: scene.name().to_string(),
+            source: scene.source().to_string(),
+            substeps: scene.substeps(),
             config: config.clone(),
         },
         header: shard::Header {
-            start_time: scene.start_time,
+            start_time: scene.start_time(),
             release: !cfg!(debug_assertions),
             warnings: precheck_lines(scene, config),
         },
@@ -498,7 +499,7 @@ pub fn precheck_lines(scene: &Scene, config: &StudyConfig) -> Vec<String> {
             if at_dt.set_dt(dt).is_err() {
                 continue;
             }
-            let report = stability::check_at(&at_dt, at_dt.dt(), at_dt.substeps, integrator);
+            let report = stability::check_at(&at_dt, at_dt.dt(), at_dt.substeps(), integrator);
             if report.verdict(integrator).is_some_and(|v| !v.stable) {
                 unstable.push(report);
             }
@@ -556,7 +557,7 @@ fn time_runs(
 ) -> Result<(Duration, u32), StudyError> {
     let once = || -> Result<Duration, StudyError> {
         let mut sim = SimLoop::new(World::new(scene));
-        let mut clock = VirtualClock::Steady(scene.timestep);
+        let mut clock = VirtualClock::Steady(scene.timestep());
         let t0 = Instant::now();
         let result = sim.run_until(ticks, &mut clock, &mut ());
         let elapsed = t0.elapsed();

@@ -4,12 +4,12 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use crate::clock::VirtualClock;
-use crate::contact::{Event, EventKind, Surface};
-use crate::forces::{ForceModel, Forces};
-use crate::scene::Scene;
-use crate::sim_loop::{ObserverError, SimLoop, TickObserver};
-use crate::world::{BodyId, World};
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::contact::{Event, EventKind, Surface};
+use volley_sim::internals::forces::{ForceModel, Forces};
+use volley_sim::internals::scene::Scene;
+use volley_sim::internals::sim_loop::{ObserverError, SimLoop, TickObserver};
+use volley_sim::internals::world::{BodyId, World};
 
 use super::reference::{Trajectory, is_sample};
 use super::{Outcome, StudyConfig, StudyError, StudyPoint};
@@ -65,15 +65,15 @@ impl EnergyDrift {
 /// Whether the scene cannot gain or lose mechanical energy: no dissipative force terms, and
 /// every surface bounces with restitution 1.
 pub fn conservative(scene: &Scene) -> bool {
-    let f = &scene.forces;
+    let f = &scene.forces();
     let damped = f.linear_drag.is_some_and(|b| b > 0.0)
         || f.quadratic_drag.is_some_and(|c| c > 0.0)
         || f.mach_drag.is_some()
         || !f.custom.is_empty()
         || f.thrust.is_some()
         || f.spring.is_some_and(|s| s.damping > 0.0);
-    let lossy = scene.ground.is_some_and(|g| g.restitution < 1.0)
-        || scene.walls.iter().any(|w| w.restitution < 1.0);
+    let lossy = scene.ground().is_some_and(|g| g.restitution < 1.0)
+        || scene.walls().iter().any(|w| w.restitution < 1.0);
     !damped && !lossy
 }
 
@@ -183,7 +183,7 @@ pub(crate) fn run_point(
     let mut sim = SimLoop::new(world);
     let result = sim.run_until(
         ticks,
-        &mut VirtualClock::Steady(scene.timestep),
+        &mut VirtualClock::Steady(scene.timestep()),
         &mut measure,
     );
     let outcome = match result {
@@ -196,9 +196,9 @@ pub(crate) fn run_point(
     });
     let sim_seconds = sim.world.tick() as f64 * scene.dt();
     Ok(StudyPoint {
-        integrator: scene.integrator,
+        integrator: scene.integrator(),
         dt: scene.dt(),
-        substeps: scene.substeps,
+        substeps: scene.substeps(),
         ticks,
         force_evals: sim.world.force_evals(),
         evals_per_second: sim.world.force_evals() as f64 / sim_seconds.max(f64::MIN_POSITIVE),

@@ -1,6 +1,6 @@
 use super::*;
-use crate::forces::{Forces, Spring};
-use crate::integrate::{BodyState, step_body};
+use volley_sim::internals::forces::{Forces, Spring};
+use volley_sim::internals::integrate::{BodyState, step_body};
 
 /// The scalar replica must be the integrators' own update: compare one step on a damped
 /// zero-rest spring (all terms linear, so implicit Euler treats them all implicitly).

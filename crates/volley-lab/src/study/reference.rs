@@ -1,13 +1,13 @@
 //! The references a study measures against, best first:
 //!
-//! 1. **Closed form** ([`crate::exact::closed_form`]) at every sampled tick, when the scene has
+//! 1. **Closed form** ([`volley_sim::internals::exact::closed_form`]) at every sampled tick, when the scene has
 //!    no contacts and every body's forces have one (any mix of gravity, constant force, linear
 //!    drag and a zero-rest-length spring with any damping; or a lone point mass, unless a body
 //!    on a radial orbit reaches its centre).
 //! 2. **Exact flow**: the scene run with [`Integrator::Exact`] at the same dt, when every force
 //!    term has a closed form but the scene has contacts: each step evaluates the closed form and
 //!    impacts are solved inside the step, so the whole piecewise trajectory is exact to rounding.
-//! 3. **Extrapolation** ([`crate::exact::extrapolate`], adaptive Gragg-Bulirsch-Stoer) when the
+//! 3. **Extrapolation** ([`volley_sim::internals::exact::extrapolate`], adaptive Gragg-Bulirsch-Stoer) when the
 //!    scene has no contacts but a force term without a closed form (quadratic drag, a spring of
 //!    nonzero rest length, a point mass with other terms): each body is advanced from one
 //!    sampled tick to the next to a relative tolerance of [`EXTRAPOLATION_TOLERANCE`], far below
@@ -30,12 +30,12 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::clock::VirtualClock;
-use crate::contact::Event;
-use crate::integrate::{BodyState, Integrator};
-use crate::scene::Scene;
-use crate::sim_loop::{ObserverError, SimLoop, TickObserver};
-use crate::world::World;
+use volley_sim::internals::clock::VirtualClock;
+use volley_sim::internals::contact::Event;
+use volley_sim::internals::integrate::{BodyState, Integrator};
+use volley_sim::internals::scene::Scene;
+use volley_sim::internals::sim_loop::{ObserverError, SimLoop, TickObserver};
+use volley_sim::internals::world::World;
 
 use super::StudyError;
 
@@ -212,7 +212,7 @@ pub(crate) fn build(
             Vec::new(),
         ));
     }
-    if scene.forces.without_closed_form().is_none() {
+    if scene.forces().without_closed_form().is_none() {
         let (frames, events) = record(scene, Integrator::Exact, 1, ticks, stride)?;
         return Ok(Trajectory::new(
             ReferenceKind::ExactFlow,
@@ -223,7 +223,7 @@ pub(crate) fn build(
     }
     // The extrapolation's derivative knows no clock and no launch, so the terms that read them
     // (a game's own, a spin, a motor) take the RK4 reference.
-    if no_contacts && !scene.forces.timed() {
+    if no_contacts && !scene.forces().timed() {
         let (frames, error_estimate) =
             extrapolation_frames(&world, ticks, stride, EXTRAPOLATION_TOLERANCE)?;
         let kind = ReferenceKind::Extrapolation {
@@ -252,7 +252,7 @@ pub(crate) fn build(
     Ok(Trajectory::new(kind, dt, frames, events))
 }
 
-/// Every body advanced by [`crate::exact::extrapolate`] from one sampled tick's time to the
+/// Every body advanced by [`volley_sim::internals::exact::extrapolate`] from one sampled tick's time to the
 /// next (bodies in parallel, each on its own), and the largest over bodies of the summed error
 /// estimates.
 fn extrapolation_frames(
@@ -272,11 +272,12 @@ fn extrapolation_frames(
         let mut states = Vec::with_capacity(samples.len());
         for &tick in &samples {
             let t = tick as f64 * world.dt();
-            let (next, e) = crate::exact::extrapolate(forces, state, m, t - time, tolerance)
-                .map_err(|error| StudyError::Extrapolation {
-                    body: b.ids()[i].0,
-                    error,
-                })?;
+            let (next, e) =
+                volley_sim::internals::exact::extrapolate(forces, state, m, t - time, tolerance)
+                    .map_err(|error| StudyError::Extrapolation {
+                        body: b.ids()[i].0,
+                        error,
+                    })?;
             (state, time, estimate) = (next, t, estimate + e);
             states.push(state);
         }
@@ -313,7 +314,9 @@ fn closed_form_frames(world: &World, ticks: u64, stride: u64) -> Option<Vec<Fram
         let t = tick as f64 * world.dt();
         let states = starts
             .iter()
-            .map(|(s, m)| crate::exact::closed_form(forces, *s, *m, t).map(|s1| (s1, *m)))
+            .map(|(s, m)| {
+                volley_sim::internals::exact::closed_form(forces, *s, *m, t).map(|s1| (s1, *m))
+            })
             .collect::<Option<Vec<_>>>()?;
         Some(Frame {
             tick,
@@ -345,12 +348,16 @@ fn record(
         frames: Vec::new(),
         events: Vec::new(),
     };
-    sim.run_until(ticks, &mut VirtualClock::Steady(s.timestep), &mut recorder)
-        .map_err(|e| StudyError::Reference {
-            integrator,
-            substeps,
-            dt: s.dt(),
-            error: Box::new(e),
-        })?;
+    sim.run_until(
+        ticks,
+        &mut VirtualClock::Steady(s.timestep()),
+        &mut recorder,
+    )
+    .map_err(|e| StudyError::Reference {
+        integrator,
+        substeps,
+        dt: s.dt(),
+        error: Box::new(e),
+    })?;
     Ok((recorder.frames, recorder.events))
 }

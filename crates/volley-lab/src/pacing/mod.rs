@@ -4,7 +4,7 @@
 //! is known at any time, so every displayed frame carries a temporal error on top of the
 //! integrator's truncation error. This module measures it: a display timing (a model of a
 //! monitor, or a real PresentMon capture) says when the game samples its frame clock and when
-//! each frame reaches the screen; a loop policy ([`crate::clock::LoopPolicy`]) decides how many
+//! each frame reaches the screen; a loop policy ([`volley_sim::internals::clock::LoopPolicy`]) decides how many
 //! ticks each frame runs; a draw mode decides which time between (or past) the ticks the frame
 //! shows; the metrics compare what was drawn with the exact position at the moment the frame was
 //! displayed.
@@ -32,4 +32,4 @@ pub use lab::{DrawMode, LEAD_WINDOW, Lead, RunConfig, Subject, run};
 pub use metrics::{Metrics, ModeMetrics, Stats};
 pub use sweep::{Choice, Row, Sweep, SweepDisplay, choose};
 
-pub use crate::draw::{DEFAULT_DRAW, DEFAULT_POLICY};
+pub use volley_sim::internals::draw::{DEFAULT_DRAW, DEFAULT_POLICY};

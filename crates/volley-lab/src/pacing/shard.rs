@@ -15,9 +15,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::clock::LoopPolicy;
-use crate::integrate::Integrator;
 use crate::study::shard::{self as study_shard, MergeError, Shard, Shards, at};
+use volley_sim::internals::clock::LoopPolicy;
+use volley_sim::internals::integrate::Integrator;
 
 use super::lab::Subject;
 use super::metrics::Metrics;
@@ -184,7 +184,10 @@ pub struct PacingShard {
 
 impl PacingShard {
     /// Runs the jobs of `sweep` that `shard` owns.
-    pub fn run(sweep: &Sweep, shard: Shard) -> Result<PacingShard, crate::sim_loop::LoopError> {
+    pub fn run(
+        sweep: &Sweep,
+        shard: Shard,
+    ) -> Result<PacingShard, volley_sim::internals::sim_loop::LoopError> {
         let rows = sweep
             .run_shard(shard)?
             .iter()

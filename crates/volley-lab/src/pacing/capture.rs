@@ -80,7 +80,7 @@
 use std::collections::BTreeMap;
 use std::time::Duration;
 
-pub use crate::scene::MAX_TEXT_BYTES;
+pub use volley_sim::internals::scene::MAX_TEXT_BYTES;
 
 use super::{DisplayTiming, Present};
 

@@ -3,7 +3,7 @@
 use std::fmt::Write;
 
 use super::{Outcome, StudyPoint, StudyReport};
-use crate::integrate::Integrator;
+use volley_sim::internals::integrate::Integrator;
 
 /// A float in 3 significant digits, scientific where that is shorter.
 pub fn sci(x: f64) -> String {
