@@ -150,7 +150,7 @@ fn error_messages_are_pinned() {
         ),
         (
             parse("spawn warp=9"),
-            "spawn: unknown key `warp`, expected mass, radius, position or velocity",
+            "spawn: unknown key `warp`, expected mass, radius, position, velocity or spin",
         ),
         (
             parse("launch speed=fast"),
