@@ -57,6 +57,8 @@ impl std::fmt::Display for ThrustCurveError {
     }
 }
 
+impl std::error::Error for ThrustCurveError {}
+
 impl ThrustCurve {
     /// A curve from its points, checked: at least two, times finite, >= 0 and strictly
     /// increasing (no repeated or backward time), thrusts finite and >= 0, the last 0 (burnout).

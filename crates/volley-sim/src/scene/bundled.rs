@@ -6,99 +6,75 @@ use super::{Scene, SceneError, parse};
 /// Every bundled scene as `(name, RON text)`, by name (`seed`, `hard/stiff_spring`, ...), in the
 /// order of their paths under `assets/scenes/`.
 pub const BUNDLED: &[(&str, &str)] = &[
-    (
-        "baseball",
-        include_str!("../../../../assets/scenes/baseball.ron"),
-    ),
-    (
-        "bench/drag",
-        include_str!("../../../../assets/scenes/bench/drag.ron"),
-    ),
+    ("baseball", include_str!("../../scenes/baseball.ron")),
+    ("bench/drag", include_str!("../../scenes/bench/drag.ron")),
     (
         "bench/gravity",
-        include_str!("../../../../assets/scenes/bench/gravity.ron"),
+        include_str!("../../scenes/bench/gravity.ron"),
     ),
-    (
-        "bounce",
-        include_str!("../../../../assets/scenes/bounce.ron"),
-    ),
-    ("drag", include_str!("../../../../assets/scenes/drag.ron")),
-    (
-        "drag_masses",
-        include_str!("../../../../assets/scenes/drag_masses.ron"),
-    ),
-    (
-        "hard/bounce",
-        include_str!("../../../../assets/scenes/hard/bounce.ron"),
-    ),
+    ("bounce", include_str!("../../scenes/bounce.ron")),
+    ("drag", include_str!("../../scenes/drag.ron")),
+    ("drag_masses", include_str!("../../scenes/drag_masses.ron")),
+    ("hard/bounce", include_str!("../../scenes/hard/bounce.ron")),
     (
         "hard/critical_spring",
-        include_str!("../../../../assets/scenes/hard/critical_spring.ron"),
+        include_str!("../../scenes/hard/critical_spring.ron"),
     ),
     (
         "hard/eccentric_orbit",
-        include_str!("../../../../assets/scenes/hard/eccentric_orbit.ron"),
+        include_str!("../../scenes/hard/eccentric_orbit.ron"),
     ),
     (
         "hard/far_from_origin",
-        include_str!("../../../../assets/scenes/hard/far_from_origin.ron"),
+        include_str!("../../scenes/hard/far_from_origin.ron"),
     ),
     (
         "hard/ground_impact",
-        include_str!("../../../../assets/scenes/hard/ground_impact.ron"),
+        include_str!("../../scenes/hard/ground_impact.ron"),
     ),
-    (
-        "hard/hitch",
-        include_str!("../../../../assets/scenes/hard/hitch.ron"),
-    ),
+    ("hard/hitch", include_str!("../../scenes/hard/hitch.ron")),
     (
         "hard/kepler_time",
-        include_str!("../../../../assets/scenes/hard/kepler_time.ron"),
+        include_str!("../../scenes/hard/kepler_time.ron"),
     ),
     (
         "hard/long_orbit",
-        include_str!("../../../../assets/scenes/hard/long_orbit.ron"),
+        include_str!("../../scenes/hard/long_orbit.ron"),
     ),
     (
         "hard/one_hour",
-        include_str!("../../../../assets/scenes/hard/one_hour.ron"),
+        include_str!("../../scenes/hard/one_hour.ron"),
     ),
     (
         "hard/quadratic_throw",
-        include_str!("../../../../assets/scenes/hard/quadratic_throw.ron"),
+        include_str!("../../scenes/hard/quadratic_throw.ron"),
     ),
     (
         "hard/stiff_spring",
-        include_str!("../../../../assets/scenes/hard/stiff_spring.ron"),
+        include_str!("../../scenes/hard/stiff_spring.ron"),
     ),
     (
         "hard/stiff_spring_1e5",
-        include_str!("../../../../assets/scenes/hard/stiff_spring_1e5.ron"),
+        include_str!("../../scenes/hard/stiff_spring_1e5.ron"),
     ),
     (
         "hard/strong_drag",
-        include_str!("../../../../assets/scenes/hard/strong_drag.ron"),
+        include_str!("../../scenes/hard/strong_drag.ron"),
     ),
     (
         "hard/tunnelling",
-        include_str!("../../../../assets/scenes/hard/tunnelling.ron"),
+        include_str!("../../scenes/hard/tunnelling.ron"),
     ),
     (
         "model_rocket",
-        include_str!("../../../../assets/scenes/model_rocket.ron"),
+        include_str!("../../scenes/model_rocket.ron"),
     ),
-    ("orbit", include_str!("../../../../assets/scenes/orbit.ron")),
-    ("rifle", include_str!("../../../../assets/scenes/rifle.ron")),
-    ("seed", include_str!("../../../../assets/scenes/seed.ron")),
-    (
-        "spring",
-        include_str!("../../../../assets/scenes/spring.ron"),
-    ),
-    (
-        "volley",
-        include_str!("../../../../assets/scenes/volley.ron"),
-    ),
-    ("wind", include_str!("../../../../assets/scenes/wind.ron")),
+    ("orbit", include_str!("../../scenes/orbit.ron")),
+    ("rifle", include_str!("../../scenes/rifle.ron")),
+    ("seed", include_str!("../../scenes/seed.ron")),
+    ("spring", include_str!("../../scenes/spring.ron")),
+    ("volley", include_str!("../../scenes/volley.ron")),
+    ("wind", include_str!("../../scenes/wind.ron")),
 ];
 
 /// The bundled scene `name` (`seed`, `hard/stiff_spring`), parsed and validated. A name no
