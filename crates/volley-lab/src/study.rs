@@ -34,9 +34,9 @@
 //! to the one-machine run's.
 //!
 //! ```
-//! use volley_sim::internals::study::{self, StudyConfig};
+//! use volley_lab::study::{self, StudyConfig};
 //! use volley_sim::Integrator;
-//! let scene = volley_sim::internals::scene::bundled("seed").unwrap();
+//! let scene = volley_sim::bundled_scene("seed").unwrap();
 //! let config = StudyConfig {
 //!     integrators: vec![Integrator::ExplicitEuler, Integrator::Rk4],
 //!     dts: vec![0.2, 0.1],
