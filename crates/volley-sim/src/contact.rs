@@ -1,4 +1,5 @@
-//! Contacts and events: the ground plane, thin walls, target spheres.
+//! Contacts and events: the ground plane, thin walls, target spheres, and level surfaces
+//! (static triangle meshes and heightfields).
 //!
 //! Swept detection (the default) finds the time of impact *inside* the step: the body is
 //! advanced from the start state by its own integrator over a sub-step `tau`, and `tau` is the
@@ -14,9 +15,24 @@ use glam::DVec3;
 use crate::body::{BodyId, BodyState, Mass};
 use crate::integrate::Scheme;
 
+mod bvh;
+mod heightfield;
+mod level;
+mod level_contact;
+mod level_query;
+mod roots;
 mod surfaces;
+mod triangle;
 
+pub use bvh::{Aabb, Bvh, LEAF_SIZE};
+pub use heightfield::GridIndex;
+pub use level::{
+    BLOCK, HeightGrid, HeightfieldSurface, LevelSource, MeshGeometry, MeshSurface, Transform,
+};
+pub use level_contact::MIN_LEVEL_RADIUS;
+pub use roots::{MAX_DEPTH as ROOT_MAX_DEPTH, SAFETY as ROOT_SAFETY};
 pub use surfaces::*;
+pub use triangle::{Feature, closest_point, is_degenerate};
 
 /// Where and when a step runs, as the contact stage needs it.
 #[derive(Clone, Copy)]
@@ -130,6 +146,11 @@ pub(crate) fn needs_resolution(
             return true;
         }
     }
+    if contacts.has_levels()
+        && level_contact::may_reach_levels(contacts, r, inv_m, ctx.h, s0, s1)
+    {
+        return true;
+    }
     for t in &contacts.targets {
         let (c0, c1) = (
             t.center_at(ctx.since_start),
@@ -230,11 +251,35 @@ fn resolve_swept<S: Scheme>(
                 first = Some((tau, plane));
             }
         }
-        let cut = first.map_or(remaining, |(tau, _)| tau);
-        let at_cut = match first {
+        let mut cut = first.map_or(remaining, |(tau, _)| tau);
+        let mut at_cut = match first {
             Some((tau, _)) if tau < remaining => step(s, c, ctx.t0 + elapsed, tau, &mut evals),
             _ => (end, end_c),
         };
+        // Level surfaces, up to the first plane: the same path, searched by `roots`.
+        if ctx.contacts.has_levels() {
+            let t_seg = ctx.t0 + elapsed;
+            let mut path = |tau: f64| step(s, c, t_seg, tau, &mut evals).0;
+            let found = level_contact::first_level_contact(
+                ctx,
+                body.r,
+                body.w.inv,
+                s,
+                (cut, at_cut.0),
+                &mut path,
+            );
+            if let Some((tau, plane)) = found
+                && (first.is_none() || tau < cut)
+            {
+                first = Some((tau, plane));
+                cut = tau;
+                at_cut = if tau < remaining {
+                    step(s, c, t_seg, tau, &mut evals)
+                } else {
+                    (end, end_c)
+                };
+            }
+        }
         targets_on_segment(
             scheme,
             ctx,
@@ -282,13 +327,13 @@ fn resolve_swept<S: Scheme>(
                     });
                 }
                 let at = (ctx.t0 + elapsed, remaining);
-                let (s, c) = settle(scheme, body, plane, (s, c), at, &mut evals);
+                let (s, c) = settle(scheme, ctx, body, plane, (s, c), at, &mut evals);
                 return (s, c, evals);
             }
         } else if -mv_n * body.w.inv <= ctx.rest_speed && tau == 0.0 {
             // Resting contact: slide along the surface for the rest of the step.
             let at = (ctx.t0 + elapsed, remaining);
-            let (s, c) = settle(scheme, body, plane, (s, c), at, &mut evals);
+            let (s, c) = settle(scheme, ctx, body, plane, (s, c), at, &mut evals);
             return (s, c, evals);
         }
         (end, end_c) = step(s, c, ctx.t0 + elapsed, remaining, &mut evals);
@@ -304,9 +349,12 @@ fn resolve_swept<S: Scheme>(
 }
 
 /// A body resting on `plane`: integrate the rest of the step with no normal momentum into the
-/// surface and clamp it onto the surface.
+/// surface and clamp it onto the surface. With level surfaces in the scene the end is then
+/// pushed out of any level triangle it overlaps (a slope's next triangle, a corner's other
+/// face), its momentum into that triangle removed.
 fn settle<S: Scheme>(
     scheme: &S,
+    ctx: &StepContext,
     body: Particle,
     plane: Plane,
     (mut s, c): (BodyState, DVec3),
@@ -334,10 +382,34 @@ fn settle<S: Scheme>(
     if mv_n < 0.0 {
         end.mv -= mv_n * plane.normal;
     }
+    if ctx.contacts.has_levels()
+        && push_out_of_levels(ctx.contacts, body.r, &mut end)
+        && S::CARRIES_FORCE
+    {
+        end_c = scheme.start_carry(end, body.w, t + remaining);
+        *evals += 1;
+    }
     (end, end_c)
 }
 
+/// Pushes `s` out of the level triangles it overlaps and removes its momentum into the last
+/// one; returns whether it moved.
+fn push_out_of_levels(contacts: &Contacts, r: f64, s: &mut BodyState) -> bool {
+    let r = level_contact::level_radius(r);
+    let Some(n) = contacts.level_depenetrate(&mut s.p, r) else {
+        return false;
+    };
+    let mv_n = n.dot(s.mv);
+    if mv_n < 0.0 {
+        s.mv -= mv_n * n;
+    }
+    true
+}
+
 fn clamp_outside(ctx: &StepContext, body: Particle, s: &mut BodyState) {
+    if ctx.contacts.has_levels() {
+        push_out_of_levels(ctx.contacts, body.r, s);
+    }
     if let Some(plane) = planes(ctx.contacts, s.p, body.r).next()
         && plane.surface == Surface::Ground
     {
@@ -441,6 +513,8 @@ fn resolve_discrete<S: Scheme>(
                 let w = &ctx.contacts.walls[i as usize];
                 w.normal.dot(s.p - w.point).abs() < 0.5 * w.thickness + body.r
             }
+            // `planes` yields only the ground and walls.
+            Surface::Mesh { .. } | Surface::Heightfield { .. } => false,
         };
         if !inside {
             continue;
@@ -458,6 +532,25 @@ fn resolve_discrete<S: Scheme>(
                     surface: plane.surface,
                     normal_speed: -mv_n * body.w.inv,
                     depth: -d,
+                },
+            });
+        }
+    }
+    if let Some((plane, depth)) = level_contact::discrete_level_contact(ctx.contacts, body.r, s.p)
+    {
+        let mv_n = plane.normal.dot(s.mv);
+        s.p += depth * plane.normal;
+        moved = true;
+        if mv_n < 0.0 {
+            s.mv -= ((1.0 + plane.restitution) * mv_n) * plane.normal;
+            out.push(Event {
+                tick: ctx.tick,
+                time: t_end,
+                body: body.id,
+                kind: EventKind::Impact {
+                    surface: plane.surface,
+                    normal_speed: -mv_n * body.w.inv,
+                    depth,
                 },
             });
         }

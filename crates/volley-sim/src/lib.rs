@@ -217,7 +217,10 @@ pub use clock::{
     ClockError, FixedClock, FrameSource, FrameTicks, LoopPolicy, RealClock, VirtualClock,
 };
 pub use command::{Command, CommandError, CommandParseError, ScriptError, Stamped, parse_script};
-pub use contact::{Detection, Event, EventKind, Ground, Surface, Target, Wall};
+pub use contact::{
+    Detection, Event, EventKind, Ground, HeightGrid, HeightfieldSurface, LevelSource, MeshGeometry,
+    MeshSurface, Surface, Target, Transform, Wall,
+};
 pub use drag::DragTable;
 pub use firing::{
     FiringError, Holdover, Mode as AimMode, Range as AimRange, Shot, holdover, solve as solve_aim,
@@ -231,8 +234,8 @@ pub use integrate::Integrator;
 pub use pacing::{DEFAULT_DRAW, DEFAULT_POLICY, DrawMode};
 pub use replay::{FirstDivergence, RecordOptions, Recorder, Recording, Replay};
 pub use scene::{
-    BodySpec, Guard, Launcher, Scene, SceneBuilder, SceneError, Volley, bundled as bundled_scene,
-    load as load_scene, parse as parse_scene,
+    BodySpec, Guard, LevelError, Launcher, Scene, SceneBuilder, SceneError, Volley,
+    bundled as bundled_scene, load as load_scene, parse as parse_scene,
 };
 pub use sim_loop::{LoopError, ObserverError, SimLoop, TickObserver};
 pub use timeline::Timeline;

@@ -10,7 +10,7 @@ use std::time::Duration;
 use glam::DVec3;
 use serde::Deserialize;
 
-use crate::contact::{Detection, Ground, Target, Wall};
+use crate::contact::{Detection, Ground, HeightfieldSurface, MeshSurface, Target, Wall};
 use crate::drag::Interpolation;
 use crate::exact::{AimError, Arc, aim};
 use crate::forces::{
@@ -22,6 +22,7 @@ use crate::integrate::{DEFAULT_TOLERANCE, Integrator};
 mod builder;
 mod bundled;
 mod error;
+mod levels;
 mod raw;
 #[cfg(test)]
 mod tests;
@@ -30,6 +31,11 @@ mod validate;
 pub use builder::{BUILT, SceneBuilder};
 pub use bundled::{BUNDLED, bundled};
 pub use error::{IntegratorError, InvalidValue, SceneError, ValueProblem};
+pub(crate) use levels::LevelFiles;
+pub use levels::{
+    BUNDLED_LEVELS, LevelError, MAX_HEIGHTFIELD_CELLS, MAX_LEVEL_FILE_BYTES, MAX_LEVEL_TRIANGLES,
+    read_gltf, read_heightmap_png, read_obj, write_heightmap_png,
+};
 use raw::*;
 use validate::*;
 pub use validate::{check_integrator, timestep_from_secs};
@@ -96,6 +102,10 @@ pub struct Scene {
     pub walls: Vec<Wall>,
     /// Target spheres.
     pub targets: Vec<Target>,
+    /// Static triangle meshes (level geometry), read when the scene is.
+    pub meshes: Vec<MeshSurface>,
+    /// Heightfields (terrain), read when the scene is.
+    pub heightfields: Vec<HeightfieldSurface>,
     /// Swept (time of impact inside the step) or discrete (overlap at the end of the step).
     pub detection: Detection,
     /// Bodies present at tick 0, in id order.
@@ -391,7 +401,9 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 }
 
 /// Parses and validates scene text; `file` labels errors, `default_name` is used if the scene
-/// has no `name`.
+/// has no `name`. Level files the scene names (`meshes`, `heightfields`) are read relative to
+/// `file`'s folder (the current one if it has none); one not on disk whose path ends in
+/// `levels/NAME` for a file Volley ships ([`BUNDLED_LEVELS`]) is that file.
 pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Scene, SceneError> {
     let options =
         ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
@@ -401,7 +413,7 @@ pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Scene, SceneE
         field: None,
         message: e.code.to_string(),
     })?;
-    validate(raw, text, default_name).map_err(|e| SceneError {
+    validate(raw, text, default_name, &LevelFiles::beside(file)).map_err(|e| SceneError {
         file: file.to_string(),
         position: None,
         message: e.problem.to_string(),

@@ -9,7 +9,7 @@
 
 use std::io::Write;
 
-use crate::contact::{Event, EventKind, Surface};
+use crate::contact::{Event, EventKind};
 use crate::sim_loop::{ObserverError, TickObserver};
 use crate::world::World;
 
@@ -237,10 +237,7 @@ pub fn describe(e: &Event) -> String {
             normal_speed,
             depth,
         } => {
-            let on = match surface {
-                Surface::Ground => "ground".to_string(),
-                Surface::Wall(i) => format!("wall {i}"),
-            };
+            let on = surface.to_string();
             format!("{head}: impact on {on} at {normal_speed:.6} m/s, penetration {depth:.6} m")
         }
         EventKind::Rest { surface } => format!("{head}: came to rest on {surface:?}"),

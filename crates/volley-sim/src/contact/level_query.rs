@@ -1,0 +1,170 @@
+//! What the contact stage asks of a scene's level surfaces (meshes and heightfields) together:
+//! is anything near this piece of path, which triangle is nearest to this point, and push a
+//! sphere out of them. Surfaces are visited in scene order (meshes, then heightfields), each in
+//! its fixed tree or walk order, and ties keep the first found, so answers are deterministic.
+
+use glam::DVec3;
+
+use super::bvh::Aabb;
+use super::triangle::closest_point;
+use super::{Contacts, Surface};
+
+/// The nearest level triangle to a point.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Nearest {
+    /// Which surface, and which triangle or cell of it.
+    pub surface: Surface,
+    /// Distance from the point to the triangle (m).
+    pub distance: f64,
+    /// Unit vector from the triangle's closest point to the point: the contact normal (the
+    /// face's normal on the face, from the edge or vertex otherwise). Zero when the point is on
+    /// the triangle.
+    pub normal: DVec3,
+    /// The surface's restitution.
+    pub restitution: f64,
+}
+
+/// Triangles to leave out of a query: those within `limit` of `point` (the ones a body touches
+/// at the start of a segment it is leaving them on).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Skip {
+    pub point: DVec3,
+    pub limit: f64,
+}
+
+impl Skip {
+    #[inline]
+    fn skips(&self, t: &[DVec3; 3]) -> bool {
+        (closest_point(self.point, t[0], t[1], t[2]).0 - self.point).length() <= self.limit
+    }
+}
+
+impl Contacts {
+    /// Whether the scene has meshes or heightfields.
+    #[inline]
+    pub(crate) fn has_levels(&self) -> bool {
+        !self.meshes.is_empty() || !self.heightfields.is_empty()
+    }
+
+    /// Whether `query` overlaps any level surface's world box: the cheap gate of the hot loop.
+    #[inline]
+    pub(crate) fn levels_overlap(&self, query: &Aabb) -> bool {
+        self.meshes.iter().any(|m| m.bounds().overlaps(query))
+            || self.heightfields.iter().any(|h| h.bounds().overlaps(query))
+    }
+
+    /// Calls `f(surface, restitution, corners)` for every level triangle that may lie within
+    /// `radius` of `center` (the broad phase's candidates), until it returns `true`.
+    #[inline]
+    fn any_level_triangle(
+        &self,
+        center: DVec3,
+        radius: f64,
+        mut f: impl FnMut(Surface, f64, &[DVec3; 3]) -> bool,
+    ) -> bool {
+        let query = Aabb::of_segment(center, center, radius);
+        for (k, m) in self.meshes.iter().enumerate() {
+            let hit = m.bvh.any(&query, |id, t| {
+                f(
+                    Surface::Mesh {
+                        surface: k as u32,
+                        triangle: id,
+                    },
+                    m.restitution,
+                    t,
+                )
+            });
+            if hit {
+                return true;
+            }
+        }
+        for (k, h) in self.heightfields.iter().enumerate() {
+            if !h.bounds().overlaps(&query) {
+                continue;
+            }
+            let hit = h.index.any(&h.grid, center, radius, |id, t| {
+                f(
+                    Surface::Heightfield {
+                        surface: k as u32,
+                        cell: id / 2,
+                        triangle: (id % 2) as u8,
+                    },
+                    h.restitution,
+                    t,
+                )
+            });
+            if hit {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Whether some level triangle (not skipped) comes within `radius` of `center`.
+    pub(crate) fn level_near(&self, center: DVec3, radius: f64, skip: Option<Skip>) -> bool {
+        self.any_level_triangle(center, radius, |_, _, t| {
+            let q = closest_point(center, t[0], t[1], t[2]).0;
+            (q - center).length() <= radius && !skip.is_some_and(|s| s.skips(t))
+        })
+    }
+
+    /// The nearest level triangle (not skipped) within `reach` of `p`, if any.
+    pub(crate) fn level_nearest(&self, p: DVec3, reach: f64, skip: Option<Skip>) -> Option<Nearest> {
+        let mut best: Option<Nearest> = None;
+        self.any_level_triangle(p, reach, |surface, restitution, t| {
+            let q = closest_point(p, t[0], t[1], t[2]).0;
+            let d = (p - q).length();
+            if d <= reach
+                && best.is_none_or(|b| d < b.distance)
+                && !skip.is_some_and(|s| s.skips(t))
+            {
+                best = Some(Nearest {
+                    surface,
+                    distance: d,
+                    normal: (p - q).normalize_or_zero(),
+                    restitution,
+                });
+            }
+            false
+        });
+        best
+    }
+
+    /// Every level triangle within `reach` of `p`, in visit order, to `f`.
+    pub(crate) fn level_touching(&self, p: DVec3, reach: f64, mut f: impl FnMut(Nearest)) {
+        self.any_level_triangle(p, reach, |surface, restitution, t| {
+            let q = closest_point(p, t[0], t[1], t[2]).0;
+            let d = (p - q).length();
+            if d <= reach {
+                f(Nearest {
+                    surface,
+                    distance: d,
+                    normal: (p - q).normalize_or_zero(),
+                    restitution,
+                });
+            }
+            false
+        });
+    }
+
+    /// Pushes a sphere of radius `r` at `p` out of every level triangle it overlaps, along each
+    /// one's contact normal, in up to [`DEPENETRATION_PASSES`] passes (a concave corner needs
+    /// one per face). Returns the last normal it pushed along, if any.
+    pub(crate) fn level_depenetrate(&self, p: &mut DVec3, r: f64) -> Option<DVec3> {
+        let mut pushed = None;
+        for _ in 0..DEPENETRATION_PASSES {
+            let Some(n) = self.level_nearest(*p, r, None) else {
+                break;
+            };
+            if n.distance >= r || n.normal == DVec3::ZERO {
+                break;
+            }
+            *p += (r - n.distance) * n.normal;
+            pushed = Some(n.normal);
+        }
+        pushed
+    }
+}
+
+/// Passes of [`Contacts::level_depenetrate`]: enough for a sphere in the corner of three faces.
+pub(crate) const DEPENETRATION_PASSES: usize = 4;
