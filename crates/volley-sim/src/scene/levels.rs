@@ -134,8 +134,12 @@ impl LevelFiles {
 fn read_limited(path: &Path) -> std::io::Result<Vec<u8>> {
     use std::io::Read;
     let mut bytes = Vec::new();
-    std::fs::File::open(path)?
-        .take(MAX_LEVEL_FILE_BYTES + 1)
+    let file = std::fs::File::open(path)?;
+    // Only regular files: a FIFO or a device (`/dev/stdin`) could block or never end.
+    if !file.metadata()?.is_file() {
+        return Err(std::io::Error::other("not a regular file"));
+    }
+    file.take(MAX_LEVEL_FILE_BYTES + 1)
         .read_to_end(&mut bytes)?;
     if bytes.len() as u64 > MAX_LEVEL_FILE_BYTES {
         return Err(std::io::Error::other(format!(
