@@ -398,7 +398,10 @@ fn check_mesh(mesh: volley_sim::MeshGeometry) {
     use volley_sim::internals::contact::is_degenerate;
     let n = mesh.vertices.len();
     for t in &mesh.triangles {
-        assert!(t.iter().all(|&i| (i as usize) < n), "index past the vertices");
+        assert!(
+            t.iter().all(|&i| (i as usize) < n),
+            "index past the vertices"
+        );
         let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
         assert!(!is_degenerate(a, b, c), "a degenerate triangle was kept");
     }
@@ -414,12 +417,8 @@ fn check_mesh(mesh: volley_sim::MeshGeometry) {
         0.5,
     );
     let bounds = surface.bounds();
-    let scene = Scene::builder("fuzz", 1.0 / 60.0).mesh(
-        "fuzz",
-        mesh,
-        volley_sim::Transform::IDENTITY,
-        0.5,
-    );
+    let scene =
+        Scene::builder("fuzz", 1.0 / 60.0).mesh("fuzz", mesh, volley_sim::Transform::IDENTITY, 0.5);
     drop_on_level(scene, bounds);
 }
 

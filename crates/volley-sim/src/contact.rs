@@ -146,9 +146,7 @@ pub(crate) fn needs_resolution(
             return true;
         }
     }
-    if contacts.has_levels()
-        && level_contact::may_reach_levels(contacts, r, inv_m, ctx.h, s0, s1)
-    {
+    if contacts.has_levels() && level_contact::may_reach_levels(contacts, r, inv_m, ctx.h, s0, s1) {
         return true;
     }
     for t in &contacts.targets {
@@ -536,8 +534,7 @@ fn resolve_discrete<S: Scheme>(
             });
         }
     }
-    if let Some((plane, depth)) = level_contact::discrete_level_contact(ctx.contacts, body.r, s.p)
-    {
+    if let Some((plane, depth)) = level_contact::discrete_level_contact(ctx.contacts, body.r, s.p) {
         let mv_n = plane.normal.dot(s.mv);
         s.p += depth * plane.normal;
         moved = true;

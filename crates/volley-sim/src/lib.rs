@@ -234,7 +234,7 @@ pub use integrate::Integrator;
 pub use pacing::{DEFAULT_DRAW, DEFAULT_POLICY, DrawMode};
 pub use replay::{FirstDivergence, RecordOptions, Recorder, Recording, Replay};
 pub use scene::{
-    BodySpec, Guard, LevelError, Launcher, Scene, SceneBuilder, SceneError, Volley,
+    BodySpec, Guard, Launcher, LevelError, Scene, SceneBuilder, SceneError, Volley,
     bundled as bundled_scene, load as load_scene, parse as parse_scene,
 };
 pub use sim_loop::{LoopError, ObserverError, SimLoop, TickObserver};

@@ -58,8 +58,16 @@ impl GridIndex {
         let mut bounds = Aabb::EMPTY;
         for k in 0..8 {
             let local = DVec3::new(
-                if k & 1 == 0 { 0.0 } else { f64::from(cx) * cell },
-                if k & 2 == 0 { 0.0 } else { f64::from(cy) * cell },
+                if k & 1 == 0 {
+                    0.0
+                } else {
+                    f64::from(cx) * cell
+                },
+                if k & 2 == 0 {
+                    0.0
+                } else {
+                    f64::from(cy) * cell
+                },
                 if k & 4 == 0 { lo } else { hi },
             );
             bounds = bounds.with(position + linear * local);
@@ -136,8 +144,12 @@ impl GridIndex {
                         let w = |x: f64, y: f64, z: f64| {
                             self.position + self.linear * DVec3::new(x, y, z)
                         };
-                        let (p00, p10, p11, p01) =
-                            (w(x0, y0, h[0]), w(x1, y0, h[1]), w(x1, y1, h[2]), w(x0, y1, h[3]));
+                        let (p00, p10, p11, p01) = (
+                            w(x0, y0, h[0]),
+                            w(x1, y0, h[1]),
+                            w(x1, y1, h[2]),
+                            w(x0, y1, h[3]),
+                        );
                         let id = 2 * (j * cx + i);
                         if f(id, &[p00, p10, p11]) || f(id + 1, &[p00, p11, p01]) {
                             return true;

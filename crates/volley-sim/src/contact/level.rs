@@ -57,21 +57,9 @@ impl Transform {
         let (sx, cx) = (libm::sin(r.x), libm::cos(r.x));
         let (sy, cy) = (libm::sin(r.y), libm::cos(r.y));
         let (sz, cz) = (libm::sin(r.z), libm::cos(r.z));
-        let rx = DMat3::from_cols(
-            DVec3::X,
-            DVec3::new(0.0, cx, sx),
-            DVec3::new(0.0, -sx, cx),
-        );
-        let ry = DMat3::from_cols(
-            DVec3::new(cy, 0.0, -sy),
-            DVec3::Y,
-            DVec3::new(sy, 0.0, cy),
-        );
-        let rz = DMat3::from_cols(
-            DVec3::new(cz, sz, 0.0),
-            DVec3::new(-sz, cz, 0.0),
-            DVec3::Z,
-        );
+        let rx = DMat3::from_cols(DVec3::X, DVec3::new(0.0, cx, sx), DVec3::new(0.0, -sx, cx));
+        let ry = DMat3::from_cols(DVec3::new(cy, 0.0, -sy), DVec3::Y, DVec3::new(sy, 0.0, cy));
+        let rz = DMat3::from_cols(DVec3::new(cz, sz, 0.0), DVec3::new(-sz, cz, 0.0), DVec3::Z);
         rz * ry * rx
     }
 
@@ -247,10 +235,7 @@ pub struct HeightGrid {
 impl HeightGrid {
     /// Cells along x and y.
     pub fn cells(&self) -> (u32, u32) {
-        (
-            self.columns.saturating_sub(1),
-            self.rows.saturating_sub(1),
-        )
+        (self.columns.saturating_sub(1), self.rows.saturating_sub(1))
     }
 
     /// The sample at column `i`, row `j` (m).

@@ -117,10 +117,7 @@ pub(crate) fn first_level_contact(
         if rate < 0.0 || (rate <= ctx.rest_speed && gap.value(&end) < 0.0) {
             return Some((0.0, plane));
         }
-        skip = Some(Skip {
-            point: s.p,
-            limit,
-        });
+        skip = Some(Skip { point: s.p, limit });
     }
     let mut gap = LevelGap { contacts, r, skip };
     let a = PathPoint {

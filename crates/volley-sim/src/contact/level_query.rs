@@ -109,7 +109,12 @@ impl Contacts {
     }
 
     /// The nearest level triangle (not skipped) within `reach` of `p`, if any.
-    pub(crate) fn level_nearest(&self, p: DVec3, reach: f64, skip: Option<Skip>) -> Option<Nearest> {
+    pub(crate) fn level_nearest(
+        &self,
+        p: DVec3,
+        reach: f64,
+        skip: Option<Skip>,
+    ) -> Option<Nearest> {
         let mut best: Option<Nearest> = None;
         self.any_level_triangle(p, reach, |surface, restitution, t| {
             let q = closest_point(p, t[0], t[1], t[2]).0;

@@ -101,8 +101,7 @@ pub(crate) fn first_root(
             if chord + m <= crossing.resolution() || depth >= MAX_DEPTH {
                 return Some(refine(path, crossing, a, b));
             }
-        } else if depth >= MAX_DEPTH || !crossing.possible(0.5 * (a.s.p + b.s.p), 0.5 * chord + m)
-        {
+        } else if depth >= MAX_DEPTH || !crossing.possible(0.5 * (a.s.p + b.s.p), 0.5 * chord + m) {
             continue;
         }
         let tau = 0.5 * (a.tau + b.tau);

@@ -40,12 +40,28 @@ pub const BUNDLED: &[(&str, &str)] = &[
         include_str!("../../../../assets/scenes/hard/eccentric_orbit.ron"),
     ),
     (
+        "hard/edge_vertex",
+        include_str!("../../../../assets/scenes/hard/edge_vertex.ron"),
+    ),
+    (
         "hard/far_from_origin",
         include_str!("../../../../assets/scenes/hard/far_from_origin.ron"),
     ),
     (
+        "hard/grazing",
+        include_str!("../../../../assets/scenes/hard/grazing.ron"),
+    ),
+    (
+        "hard/grenade_corner",
+        include_str!("../../../../assets/scenes/hard/grenade_corner.ron"),
+    ),
+    (
         "hard/ground_impact",
         include_str!("../../../../assets/scenes/hard/ground_impact.ron"),
+    ),
+    (
+        "hard/hill",
+        include_str!("../../../../assets/scenes/hard/hill.ron"),
     ),
     (
         "hard/hitch",
@@ -64,8 +80,16 @@ pub const BUNDLED: &[(&str, &str)] = &[
         include_str!("../../../../assets/scenes/hard/one_hour.ron"),
     ),
     (
+        "hard/plate_bullet",
+        include_str!("../../../../assets/scenes/hard/plate_bullet.ron"),
+    ),
+    (
         "hard/quadratic_throw",
         include_str!("../../../../assets/scenes/hard/quadratic_throw.ron"),
+    ),
+    (
+        "hard/slope",
+        include_str!("../../../../assets/scenes/hard/slope.ron"),
     ),
     (
         "hard/stiff_spring",
@@ -78,6 +102,10 @@ pub const BUNDLED: &[(&str, &str)] = &[
     (
         "hard/strong_drag",
         include_str!("../../../../assets/scenes/hard/strong_drag.ron"),
+    ),
+    (
+        "hard/tick_boundary",
+        include_str!("../../../../assets/scenes/hard/tick_boundary.ron"),
     ),
     (
         "hard/tunnelling",

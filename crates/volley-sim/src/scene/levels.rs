@@ -80,7 +80,10 @@ pub const BUNDLED_LEVELS: &[(&str, &[u8])] = &[
         "corner.obj",
         include_bytes!("../../../../assets/levels/corner.obj"),
     ),
-    ("hill.png", include_bytes!("../../../../assets/levels/hill.png")),
+    (
+        "hill.png",
+        include_bytes!("../../../../assets/levels/hill.png"),
+    ),
     (
         "plate.gltf",
         include_bytes!("../../../../assets/levels/plate.gltf"),
@@ -89,8 +92,14 @@ pub const BUNDLED_LEVELS: &[(&str, &[u8])] = &[
         "plate.bin",
         include_bytes!("../../../../assets/levels/plate.bin"),
     ),
-    ("plate.obj", include_bytes!("../../../../assets/levels/plate.obj")),
-    ("ramp.glb", include_bytes!("../../../../assets/levels/ramp.glb")),
+    (
+        "plate.obj",
+        include_bytes!("../../../../assets/levels/plate.obj"),
+    ),
+    (
+        "ramp.glb",
+        include_bytes!("../../../../assets/levels/ramp.glb"),
+    ),
 ];
 
 /// Where a scene's level files are: the scene file's folder.
@@ -116,7 +125,13 @@ impl LevelFiles {
         let path = normalise(&self.dir.join(rel));
         match read_limited(&path) {
             Ok(bytes) => Ok(bytes),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            // Not found, or no file system at all (a wasm32 build): a shipped level.
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::NotFound | std::io::ErrorKind::Unsupported
+                ) =>
+            {
                 let shown = path.to_string_lossy().replace('\\', "/");
                 let bundled = BUNDLED_LEVELS.iter().find(|(name, _)| {
                     shown == format!("levels/{name}") || shown.ends_with(&format!("/levels/{name}"))
@@ -292,17 +307,19 @@ pub(super) fn validate_mesh(
                     g
                 })
             } else {
-                Err(LevelError::new(
-                    file,
-                    "expected a .obj, .gltf or .glb file",
-                ))
+                Err(LevelError::new(file, "expected a .obj, .gltf or .glb file"))
             }
             .map_err(|e| level_problem(f, e))?;
             (LevelSource::File(file.clone()), hasher.digest(), geometry)
         }
         (None, true) => {
             let n = raw.vertices.len();
-            if let Some((k, v)) = raw.vertices.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            if let Some((k, v)) = raw
+                .vertices
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !v.is_finite())
+            {
                 return Err(invalid(
                     format!("{field}.vertices[{k}]"),
                     ValueProblem::NotFiniteVector(*v),
@@ -311,7 +328,10 @@ pub(super) fn validate_mesh(
             if raw.triangles.len() > MAX_LEVEL_TRIANGLES {
                 return Err(level_problem(
                     format!("{field}.triangles"),
-                    LevelError::new(&raw.name, format!("more than {MAX_LEVEL_TRIANGLES} triangles")),
+                    LevelError::new(
+                        &raw.name,
+                        format!("more than {MAX_LEVEL_TRIANGLES} triangles"),
+                    ),
                 ));
             }
             let mut triangles = Vec::with_capacity(raw.triangles.len());
@@ -330,7 +350,9 @@ pub(super) fn validate_mesh(
             if g.triangles.is_empty() {
                 return Err(invalid(
                     format!("{field}.triangles"),
-                    ValueProblem::Level("expected at least one triangle that is not degenerate".into()),
+                    ValueProblem::Level(
+                        "expected at least one triangle that is not degenerate".into(),
+                    ),
                 ));
             }
             (LevelSource::Inline, g.content_hash(), g)
@@ -338,9 +360,7 @@ pub(super) fn validate_mesh(
         _ => {
             return Err(invalid(
                 field,
-                ValueProblem::Level(
-                    "expected either `file` or `vertices` and `triangles`".into(),
-                ),
+                ValueProblem::Level("expected either `file` or `vertices` and `triangles`".into()),
             ));
         }
     };
@@ -399,9 +419,7 @@ pub(super) fn validate_heightfield(
             if (c - 1) * (r - 1) > MAX_HEIGHTFIELD_CELLS {
                 return Err(invalid(
                     f,
-                    ValueProblem::Level(format!(
-                        "more than {MAX_HEIGHTFIELD_CELLS} cells"
-                    )),
+                    ValueProblem::Level(format!("more than {MAX_HEIGHTFIELD_CELLS} cells")),
                 ));
             }
             if g.heights.len() as u64 != c * r {

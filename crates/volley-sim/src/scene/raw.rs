@@ -101,7 +101,11 @@ impl Scene {
             walls: self.walls.clone(),
             targets: self.targets.clone(),
             meshes: self.meshes.iter().map(levels::raw_mesh).collect(),
-            heightfields: self.heightfields.iter().map(levels::raw_heightfield).collect(),
+            heightfields: self
+                .heightfields
+                .iter()
+                .map(levels::raw_heightfield)
+                .collect(),
             detection: self.detection,
             bodies: self
                 .bodies

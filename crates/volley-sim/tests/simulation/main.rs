@@ -18,6 +18,7 @@ mod exact;
 mod firing;
 mod hard_cases;
 mod layers;
+mod levels;
 mod pacing;
 mod parallel;
 mod rest_event;

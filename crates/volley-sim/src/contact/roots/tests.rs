@@ -61,7 +61,11 @@ fn a_dip_between_the_ends_of_the_step_is_found_at_its_first_root() {
     // 10 tau^2 - tau + 0.02 = 0: the first root is (1 - sqrt(0.2)) / 20; the second, 0.0724,
     // must not be the one found.
     let exact = (1.0 - 0.2f64.sqrt()) / 20.0;
-    assert!((lo.tau - exact).abs() <= 4.0 * f64::EPSILON, "{} vs {exact}", lo.tau);
+    assert!(
+        (lo.tau - exact).abs() <= 4.0 * f64::EPSILON,
+        "{} vs {exact}",
+        lo.tau
+    );
     assert!(lo.value >= 0.0 && hi.value <= 0.0 && hi.tau < 0.05);
 }
 
@@ -82,10 +86,7 @@ fn a_dip_that_stays_above_the_radius_is_cleared_in_a_few_pieces() {
 #[test]
 fn a_tangent_touch_ends_at_the_depth_limit_without_a_root() {
     let mut path = dip();
-    let mut c = Floor {
-        r: 0.035,
-        asked: 0,
-    };
+    let mut c = Floor { r: 0.035, asked: 0 };
     let (a, b) = (point(&mut path, &mut c, 0.0), point(&mut path, &mut c, 0.2));
     // The lowest point is 0.035 to rounding: found as a root at tau = 0.05 or not at all, and
     // either way the search ends (at most MAX_DEPTH pieces down one branch, and their

@@ -12,12 +12,8 @@ pub fn read_heightmap_png(
     height_scale: f64,
 ) -> Result<HeightGrid, LevelError> {
     let bad = |m: String| LevelError::new(file, m);
-    let mut decoder = png::Decoder::new_with_limits(
-        std::io::Cursor::new(bytes),
-        png::Limits {
-            bytes: 64 << 20,
-        },
-    );
+    let mut decoder =
+        png::Decoder::new_with_limits(std::io::Cursor::new(bytes), png::Limits { bytes: 64 << 20 });
     decoder.set_transformations(png::Transformations::IDENTITY);
     let mut reader = decoder
         .read_info()
@@ -31,7 +27,9 @@ pub fn read_heightmap_png(
         )));
     }
     if w < 2 || h < 2 {
-        return Err(bad(format!("expected at least 2 x 2 pixels, got {w} x {h}")));
+        return Err(bad(format!(
+            "expected at least 2 x 2 pixels, got {w} x {h}"
+        )));
     }
     let cells = u64::from(w - 1) * u64::from(h - 1);
     if cells > MAX_HEIGHTFIELD_CELLS {
@@ -104,13 +102,19 @@ mod tests {
         let mut enc = png::Encoder::new(&mut out, 2, 2);
         enc.set_color(png::ColorType::Grayscale);
         enc.set_depth(png::BitDepth::Eight);
-        enc.write_header().unwrap().write_image_data(&[0; 4]).unwrap();
+        enc.write_header()
+            .unwrap()
+            .write_image_data(&[0; 4])
+            .unwrap();
         let e = read_heightmap_png(&out, "h8.png", 1.0).unwrap_err();
         assert_eq!(
             e.to_string(),
             "h8.png: expected a 16-bit grayscale PNG, got Grayscale at 8 bits"
         );
         let e = read_heightmap_png(b"not a png", "x.png", 1.0).unwrap_err();
-        assert!(e.to_string().starts_with("x.png: not a readable PNG"), "{e}");
+        assert!(
+            e.to_string().starts_with("x.png: not a readable PNG"),
+            "{e}"
+        );
     }
 }

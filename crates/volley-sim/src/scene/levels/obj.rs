@@ -27,7 +27,10 @@ pub fn read_obj(bytes: &[u8], file: &str) -> Result<MeshGeometry, LevelError> {
         let mesh = &model.mesh;
         let base = vertices.len();
         if mesh.positions.len() % 3 != 0 {
-            return Err(LevelError::new(file, "a vertex with fewer than 3 coordinates"));
+            return Err(LevelError::new(
+                file,
+                "a vertex with fewer than 3 coordinates",
+            ));
         }
         let faces = mesh.indices.len() / 3;
         check_triangles(file, triangles.len() + faces)?;
@@ -44,13 +47,19 @@ pub fn read_obj(bytes: &[u8], file: &str) -> Result<MeshGeometry, LevelError> {
         let n = vertices.len() - base;
         for t in mesh.indices.chunks_exact(3) {
             if t.iter().any(|&i| i as usize >= n) {
-                return Err(LevelError::new(file, "a face names a vertex it does not have"));
+                return Err(LevelError::new(
+                    file,
+                    "a face names a vertex it does not have",
+                ));
             }
             triangles.push([t[0], t[1], t[2]].map(|i| (base + i as usize) as u32));
         }
     }
     if triangles.is_empty() {
-        return Err(LevelError::new(file, "no triangles (an OBJ needs `f` lines)"));
+        return Err(LevelError::new(
+            file,
+            "no triangles (an OBJ needs `f` lines)",
+        ));
     }
     Ok(MeshGeometry::new(vertices, triangles))
 }

@@ -1,0 +1,1 @@
+//! Level files in scenes: readers, errors, content hashes, round trips.
