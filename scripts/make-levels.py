@@ -4,10 +4,12 @@
   plate.obj              a steel plate: a closed box 1 cm thick (x), 2 m wide (y) and tall (z),
                          centred on the origin: 8 vertices, 12 triangles
   plate.gltf, plate.bin  the same box as glTF 2.0 with an external buffer (y-up, as glTF is)
-  ramp.glb               a 30-degree ramp as binary glTF: a 10 m x 4 m slope rising along +x
-                         from z = 0 at x = 0, and a flat run-out beyond it
-  corner.obj             a concave corner: a floor z = 0 (x in [-2, 2], y in [-2, 2]) and a
-                         wall x = 2 up to z = 2, each two triangles
+  ramp.glb               a ramp as binary glTF: a slope of 3 in 4 (36.87 degrees, sine 0.6)
+                         rising along +x from z = 0 at x = 0 to z = 6 at x = 8, 4 m wide, and a
+                         flat 5 m top beyond it (every coordinate exact in f32)
+  corner.obj             a concave corner: a floor falling from z = 0.6 at x = -2 to z = 0 at
+                         x = 2 (y in [-2, 2]; 8.5 degrees, towards the wall) and a wall x = 2
+                         up to z = 2, each two triangles
   hill.png               a 65 x 65 16-bit grayscale heightfield: a Gaussian hill of 20000 units
                          at its centre, width (sigma) 10 samples
 
@@ -119,17 +121,16 @@ def main():
     write_obj(os.path.join(OUT, "plate.obj"), v, t,
               "A steel plate: a closed box 1 cm thick (x), 2 m wide (y) and tall (z).")
     write_gltf(os.path.join(OUT, "plate.gltf"), "plate.bin", v, t)
-    # The ramp: rises 30 degrees over x in [0, L cos 30], then flat for 5 m; y in [-2, 2].
-    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
-    top = (10 * c, 10 * s)
+    # The ramp: rises 6 m over x in [0, 8], then flat for 5 m; y in [-2, 2].
+    top = (8, 6)
     rv = [(0, -2, 0), (0, 2, 0), (top[0], 2, top[1]), (top[0], -2, top[1]),
           (top[0] + 5, 2, top[1]), (top[0] + 5, -2, top[1])]
     rt = [(0, 3, 2), (0, 2, 1), (3, 5, 4), (3, 4, 2)]
     write_glb(os.path.join(OUT, "ramp.glb"), rv, rt)
-    cv = [(-2, -2, 0), (2, -2, 0), (2, 2, 0), (-2, 2, 0), (2, -2, 2), (2, 2, 2)]
+    cv = [(-2, -2, 0.6), (2, -2, 0), (2, 2, 0), (-2, 2, 0.6), (2, -2, 2), (2, 2, 2)]
     ct = [(0, 1, 2), (0, 2, 3), (1, 4, 5), (1, 5, 2)]
     write_obj(os.path.join(OUT, "corner.obj"), cv, ct,
-              "A concave corner: the floor z = 0 and the wall x = 2 up to z = 2.")
+              "A concave corner: a floor falling 0.6 m towards the wall x = 2, 2 m high.")
     write_png16(os.path.join(OUT, "hill.png"), 65, 65,
                 lambda i, j: round(20000 * math.exp(-((i - 32) ** 2 + (j - 32) ** 2) / 200.0)))
 

@@ -260,8 +260,7 @@ fn resolve_swept<S: Scheme>(
             let mut path = |tau: f64| step(s, c, t_seg, tau, &mut evals).0;
             let found = level_contact::first_level_contact(
                 ctx,
-                body.r,
-                body.w.inv,
+                (body.r, body.w.inv, None),
                 s,
                 (cut, at_cut.0),
                 &mut path,
@@ -325,13 +324,13 @@ fn resolve_swept<S: Scheme>(
                     });
                 }
                 let at = (ctx.t0 + elapsed, remaining);
-                let (s, c) = settle(scheme, ctx, body, plane, (s, c), at, &mut evals);
+                let (s, c) = settle(scheme, ctx, body, plane, (s, c), at, &mut evals, out);
                 return (s, c, evals);
             }
         } else if -mv_n * body.w.inv <= ctx.rest_speed && tau == 0.0 {
             // Resting contact: slide along the surface for the rest of the step.
             let at = (ctx.t0 + elapsed, remaining);
-            let (s, c) = settle(scheme, ctx, body, plane, (s, c), at, &mut evals);
+            let (s, c) = settle(scheme, ctx, body, plane, (s, c), at, &mut evals, out);
             return (s, c, evals);
         }
         (end, end_c) = step(s, c, ctx.t0 + elapsed, remaining, &mut evals);
@@ -347,27 +346,86 @@ fn resolve_swept<S: Scheme>(
 }
 
 /// A body resting on `plane`: integrate the rest of the step with no normal momentum into the
-/// surface and clamp it onto the surface. With level surfaces in the scene the end is then
-/// pushed out of any level triangle it overlaps (a slope's next triangle, a corner's other
-/// face), its momentum into that triangle removed.
+/// surface and clamp it onto the surface. With level surfaces in the scene, the slide is
+/// searched for another level triangle on its way (a wall it slides into, however thin): met,
+/// the body is stopped there, clamped, bounced off it and the rest of the step integrated
+/// again. The end is then pushed out of any level triangle it overlaps (a slope's next
+/// triangle, a corner's other face), its momentum into that triangle removed.
+#[allow(clippy::too_many_arguments)]
 fn settle<S: Scheme>(
     scheme: &S,
     ctx: &StepContext,
     body: Particle,
     plane: Plane,
-    (mut s, c): (BodyState, DVec3),
-    (t, remaining): (f64, f64),
+    (mut s, mut c): (BodyState, DVec3),
+    (mut t, mut remaining): (f64, f64),
     evals: &mut u64,
+    out: &mut Vec<Event>,
 ) -> (BodyState, DVec3) {
     let mv_n = plane.normal.dot(s.mv);
     s.mv -= mv_n * plane.normal;
-    let (mut end, mut end_c) = if remaining > 0.0 {
-        let (end, end_c, n) = scheme.step_counted(s, body.w, t, remaining, c);
-        *evals += n;
-        (end, end_c)
-    } else {
-        (s, c)
+    let step = |s: BodyState, c: DVec3, t: f64, tau: f64, evals: &mut u64| {
+        if tau > 0.0 {
+            let (end, end_c, n) = scheme.step_counted(s, body.w, t, tau, c);
+            *evals += n;
+            (end, end_c)
+        } else {
+            (s, c)
+        }
     };
+    let (mut end, mut end_c) = step(s, c, t, remaining, evals);
+    if ctx.contacts.has_levels() && remaining > 0.0 {
+        let mut spent = 0;
+        let mut path = |tau: f64| {
+            let (s, _, n) = scheme.step_counted(s, body.w, t, tau, c);
+            spent += n;
+            s
+        };
+        // The surface's own plane: the centre's plane less the radius it keeps.
+        let surface = (
+            plane.normal,
+            plane.offset - level_contact::level_radius(body.r),
+        );
+        let met = level_contact::first_level_contact(
+            ctx,
+            (body.r, body.w.inv, Some(surface)),
+            s,
+            (remaining, end),
+            &mut path,
+        );
+        *evals += spent;
+        if let Some((tau, other)) = met {
+            (s, c) = step(s, c, t, tau, evals);
+            let d = plane.distance(s.p);
+            if d < 0.0 {
+                s.p -= d * plane.normal;
+            }
+            let mv_n = other.normal.dot(s.mv);
+            if mv_n < 0.0 {
+                s.mv -= ((1.0 + other.restitution) * mv_n) * other.normal;
+                let speed = -mv_n * body.w.inv;
+                if speed * other.restitution > ctx.rest_speed {
+                    out.push(Event {
+                        tick: ctx.tick,
+                        time: t + tau,
+                        body: body.id,
+                        kind: EventKind::Impact {
+                            surface: other.surface,
+                            normal_speed: speed,
+                            depth: 0.0,
+                        },
+                    });
+                }
+            }
+            if S::CARRIES_FORCE {
+                c = scheme.start_carry(s, body.w, t + tau);
+                *evals += 1;
+            }
+            t += tau;
+            remaining -= tau;
+            (end, end_c) = step(s, c, t, remaining, evals);
+        }
+    }
     let d = plane.distance(end.p);
     if d < 0.0 {
         end.p -= d * plane.normal;

@@ -76,12 +76,15 @@ impl Crossing for LevelGap<'_> {
 /// The first level contact on the segment from `s` over `duration` to `end` (the state at
 /// `duration`), as `(tau, tangent plane)`. `path(tau)` is the body's state `tau` into the
 /// segment. A body touching a surface at the segment's start meets it at `tau = 0` when it
-/// moves into it, or rests on it (moving along it and inside it at `end`); one leaving it
-/// searches past it.
+/// moves into it, or rests on it (leaving it no faster than gravity's gain in a step, and
+/// inside it at `end` or moving into it there); one leaving it searches past it.
+///
+/// With `sliding`, the body rests on the plane `(n, n . x)` of a surface and on what it touches
+/// (the resting contact's step): those triangles and the ones in that plane are left out, and
+/// only something else on its way is looked for.
 pub(crate) fn first_level_contact(
     ctx: &StepContext,
-    r: f64,
-    inv_m: f64,
+    (r, inv_m, sliding): (f64, f64, Option<(DVec3, f64)>),
     s: BodyState,
     (duration, end): (f64, BodyState),
     path: &mut impl FnMut(f64) -> BodyState,
@@ -102,7 +105,13 @@ pub(crate) fn first_level_contact(
         }
     });
     let mut skip = None;
-    if let Some((rate, n)) = touched {
+    if sliding.is_some() {
+        skip = Some(Skip {
+            point: s.p,
+            limit,
+            plane: sliding,
+        });
+    } else if let Some((rate, n)) = touched {
         let plane = Plane {
             surface: n.surface,
             normal: n.normal,
@@ -114,10 +123,18 @@ pub(crate) fn first_level_contact(
             r,
             skip: None,
         };
-        if rate < 0.0 || (rate <= ctx.rest_speed && gap.value(&end) < 0.0) {
+        // Resting: not leaving faster than gravity's gain in a step, and inside at the end or
+        // moving into the face there (explicit Euler's step from rest only gains the speed).
+        let resting =
+            rate <= ctx.rest_speed && (gap.value(&end) < 0.0 || n.normal.dot(end.mv * inv_m) < 0.0);
+        if rate < 0.0 || resting {
             return Some((0.0, plane));
         }
-        skip = Some(Skip { point: s.p, limit });
+        skip = Some(Skip {
+            point: s.p,
+            limit,
+            plane: None,
+        });
     }
     let mut gap = LevelGap { contacts, r, skip };
     let a = PathPoint {

@@ -4,10 +4,10 @@
 //! exact under the scene's force (each test says which), and from a converged run (the same
 //! scene at a finer step) elsewhere.
 
+mod corner;
 mod files;
 mod plate;
 mod terrain;
-mod corner;
 
 use volley_sim::internals::clock::VirtualClock;
 use volley_sim::{Event, EventKind, Integrator, Scene, SimLoop, Surface, World};

@@ -31,13 +31,27 @@ fn a_900_m_s_bullet_hits_the_plate_at_30_and_60_hz_for_every_integrator() {
             let hits = impacts(&events, 0);
             assert_eq!(hits.len(), 1, "{integrator} at {dt}: {hits:?}");
             let (t, surface, speed) = hits[0];
-            assert!((t - t_star).abs() <= TOI, "{integrator} at {dt}: {t} vs {t_star}");
-            assert!(matches!(surface, Surface::Mesh { surface: 0, .. }), "{surface:?}");
+            assert!(
+                (t - t_star).abs() <= TOI,
+                "{integrator} at {dt}: {t} vs {t_star}"
+            );
+            assert!(
+                matches!(surface, Surface::Mesh { surface: 0, .. }),
+                "{surface:?}"
+            );
             assert!((speed - 900.0).abs() < 1e-9, "{integrator}: {speed}");
             // It bounced back off the face (restitution 0.1) and is on the near side.
             let p = world.bodies().positions().get(0);
-            assert!(p.x < FACE - R, "{integrator} at {dt}: tunnelled to x = {}", p.x);
-            assert!((world.velocity(0).x + 90.0).abs() < 1e-9, "{integrator}: {}", world.velocity(0));
+            assert!(
+                p.x < FACE - R,
+                "{integrator} at {dt}: tunnelled to x = {}",
+                p.x
+            );
+            assert!(
+                (world.velocity(0).x + 90.0).abs() < 1e-9,
+                "{integrator}: {}",
+                world.velocity(0)
+            );
         }
     }
 }
@@ -71,9 +85,16 @@ fn grazing_shots_from_half_a_degree_to_ninety_hit_the_face_on_time() {
                 t - t_star
             );
             assert!(matches!(surface, Surface::Mesh { surface: 0, .. }));
-            assert!((speed - b.velocity.x).abs() < 1e-6 * b.velocity.x, "{speed}");
+            assert!(
+                (speed - b.velocity.x).abs() < 1e-6 * b.velocity.x,
+                "{speed}"
+            );
             let p = world.bodies().positions().get(k);
-            assert!(p.x < FACE - R, "{integrator} body {k} tunnelled: x = {}", p.x);
+            assert!(
+                p.x < FACE - R,
+                "{integrator} body {k} tunnelled: x = {}",
+                p.x
+            );
         }
     }
 }
@@ -98,10 +119,17 @@ fn a_hit_on_the_shared_diagonal_an_edge_and_a_vertex_bounces_off_that_feature() 
             // Elastic: the velocity is reflected about the contact normal (p - q) / r, whose x
             // component is -sqrt(1 - d^2 / r^2): the normal speed is 900 times that.
             let nx = (1.0 - d2 / r2).sqrt();
-            assert!((hits[0].2 - 900.0 * nx).abs() < 1e-6, "{integrator} body {k}: {}", hits[0].2);
+            assert!(
+                (hits[0].2 - 900.0 * nx).abs() < 1e-6,
+                "{integrator} body {k}: {}",
+                hits[0].2
+            );
             let v = world.velocity(k);
             let expected_vx = 900.0 * (1.0 - 2.0 * nx * nx);
-            assert!((v.x - expected_vx).abs() < 1e-6, "{integrator} body {k}: {v}");
+            assert!(
+                (v.x - expected_vx).abs() < 1e-6,
+                "{integrator} body {k}: {v}"
+            );
             assert!((v.length() - 900.0).abs() < 1e-6, "elastic: {v}");
         }
         // The edge hit is pushed out along +y only (the normal has no z part), the vertex hit
@@ -158,7 +186,11 @@ fn seeded_shots_at_900_m_s_never_tunnel_through_the_plate() {
                     libm::cos(angle) * libm::cos(heading),
                     libm::cos(angle) * libm::sin(heading),
                 );
-                let aim = DVec3::new(FACE - R, 1.9 * shot.next() - 0.95, 1.5 + 1.9 * shot.next() - 0.95);
+                let aim = DVec3::new(
+                    FACE - R,
+                    1.9 * shot.next() - 0.95,
+                    1.5 + 1.9 * shot.next() - 0.95,
+                );
                 let before = 1.0 + 59.0 * shot.next();
                 let mut b = base.bodies[0];
                 b.position = aim - dir * before;
@@ -169,15 +201,18 @@ fn seeded_shots_at_900_m_s_never_tunnel_through_the_plate() {
             let (events, world) = events(&scene, ticks);
             let mut tunnels = 0;
             for k in 0..n {
-                let hit = events
-                    .iter()
-                    .any(|e| e.body.0 == k as u64 && matches!(e.kind, volley_sim::EventKind::Impact { .. }));
+                let hit = events.iter().any(|e| {
+                    e.body.0 == k as u64 && matches!(e.kind, volley_sim::EventKind::Impact { .. })
+                });
                 let p = world.bodies().positions().get(k);
                 if !hit || p.x > FACE {
                     tunnels += 1;
                 }
             }
-            eprintln!("{integrator} at {:.0} Hz: {tunnels} tunnels in {n} shots", 1.0 / dt);
+            eprintln!(
+                "{integrator} at {:.0} Hz: {tunnels} tunnels in {n} shots",
+                1.0 / dt
+            );
             assert_eq!(tunnels, 0, "{integrator} at {dt}");
         }
     }
