@@ -78,7 +78,8 @@ pub fn is_degenerate(a: DVec3, b: DVec3, c: DVec3) -> bool {
         .max(ac.length_squared())
         .max(bc.length_squared());
     let twice_area = ab.cross(ac).length();
-    !(twice_area > 1e-12 * longest) || !twice_area.is_finite()
+    let fair = twice_area.is_finite() && twice_area > 1e-12 * longest;
+    !fair
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@ mod support;
 mod replay_support;
 
 mod columns;
+mod levels;
 mod replay;
 mod replay_fuzz;
 mod replay_hash_runs;

@@ -13,7 +13,6 @@ pub fn read_obj(bytes: &[u8], file: &str) -> Result<MeshGeometry, LevelError> {
         single_index: false,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     let mut reader = std::io::BufReader::new(bytes);
     let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| {
