@@ -41,7 +41,12 @@ fn the_level_golden_recording_verifies_every_tick_and_its_final_hash_is_pinned()
     let bytes = std::fs::read(&path).unwrap();
     let recording = Recording::from_reader(Cursor::new(bytes), "levels_golden.vrec").unwrap();
     // The header keeps the three level files' hashes (the inline ramp is in the source).
-    let files: Vec<&str> = recording.header().levels.iter().map(|l| l.file.as_str()).collect();
+    let files: Vec<&str> = recording
+        .header()
+        .levels
+        .iter()
+        .map(|l| l.file.as_str())
+        .collect();
     assert_eq!(
         files,
         [
@@ -90,5 +95,8 @@ fn the_level_golden_scene_meets_every_kind_of_level_surface() {
         }
     }
     assert!(meshes.iter().all(|&n| n > 0), "mesh impacts {meshes:?}");
-    assert!(cells > 0 && rests > 0, "{cells} cell impacts, {rests} rests");
+    assert!(
+        cells > 0 && rests > 0,
+        "{cells} cell impacts, {rests} rests"
+    );
 }
