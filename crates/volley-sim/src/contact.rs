@@ -20,9 +20,13 @@ mod heightfield;
 mod level;
 mod level_contact;
 mod level_query;
+mod resting;
 mod roots;
 mod surfaces;
 mod triangle;
+
+use resting::{clamp_outside, settle};
+pub(crate) use roots::bracketed_root;
 
 pub use bvh::{Aabb, Bvh, LEAF_SIZE};
 pub use heightfield::GridIndex;
@@ -345,139 +349,6 @@ fn resolve_swept<S: Scheme>(
     (s, c, evals)
 }
 
-/// A body resting on `plane`: integrate the rest of the step with no normal momentum into the
-/// surface and clamp it onto the surface. With level surfaces in the scene, the slide is
-/// searched for another level triangle on its way (a wall it slides into, however thin): met,
-/// the body is stopped there, clamped, bounced off it and the rest of the step integrated
-/// again. The end is then pushed out of any level triangle it overlaps (a slope's next
-/// triangle, a corner's other face), its momentum into that triangle removed.
-#[allow(clippy::too_many_arguments)]
-fn settle<S: Scheme>(
-    scheme: &S,
-    ctx: &StepContext,
-    body: Particle,
-    plane: Plane,
-    (mut s, mut c): (BodyState, DVec3),
-    (mut t, mut remaining): (f64, f64),
-    evals: &mut u64,
-    out: &mut Vec<Event>,
-) -> (BodyState, DVec3) {
-    let mv_n = plane.normal.dot(s.mv);
-    s.mv -= mv_n * plane.normal;
-    let step = |s: BodyState, c: DVec3, t: f64, tau: f64, evals: &mut u64| {
-        if tau > 0.0 {
-            let (end, end_c, n) = scheme.step_counted(s, body.w, t, tau, c);
-            *evals += n;
-            (end, end_c)
-        } else {
-            (s, c)
-        }
-    };
-    let (mut end, mut end_c) = step(s, c, t, remaining, evals);
-    if ctx.contacts.has_levels() && remaining > 0.0 {
-        let mut spent = 0;
-        let mut path = |tau: f64| {
-            let (s, _, n) = scheme.step_counted(s, body.w, t, tau, c);
-            spent += n;
-            s
-        };
-        // The surface's own plane: the centre's plane less the radius it keeps.
-        let surface = (
-            plane.normal,
-            plane.offset - level_contact::level_radius(body.r),
-        );
-        let met = level_contact::first_level_contact(
-            ctx,
-            (body.r, body.w.inv, Some(surface)),
-            s,
-            (remaining, end),
-            &mut path,
-        );
-        *evals += spent;
-        if let Some((tau, other)) = met {
-            (s, c) = step(s, c, t, tau, evals);
-            let d = plane.distance(s.p);
-            if d < 0.0 {
-                s.p -= d * plane.normal;
-            }
-            let mv_n = other.normal.dot(s.mv);
-            if mv_n < 0.0 {
-                s.mv -= ((1.0 + other.restitution) * mv_n) * other.normal;
-                let speed = -mv_n * body.w.inv;
-                if speed * other.restitution > ctx.rest_speed {
-                    out.push(Event {
-                        tick: ctx.tick,
-                        time: t + tau,
-                        body: body.id,
-                        kind: EventKind::Impact {
-                            surface: other.surface,
-                            normal_speed: speed,
-                            depth: 0.0,
-                        },
-                    });
-                }
-            }
-            if S::CARRIES_FORCE {
-                c = scheme.start_carry(s, body.w, t + tau);
-                *evals += 1;
-            }
-            t += tau;
-            remaining -= tau;
-            (end, end_c) = step(s, c, t, remaining, evals);
-        }
-    }
-    let d = plane.distance(end.p);
-    if d < 0.0 {
-        end.p -= d * plane.normal;
-        if S::CARRIES_FORCE {
-            end_c = scheme.start_carry(end, body.w, t + remaining);
-            *evals += 1;
-        }
-    }
-    let mv_n = plane.normal.dot(end.mv);
-    if mv_n < 0.0 {
-        end.mv -= mv_n * plane.normal;
-    }
-    if ctx.contacts.has_levels()
-        && push_out_of_levels(ctx.contacts, body.r, &mut end)
-        && S::CARRIES_FORCE
-    {
-        end_c = scheme.start_carry(end, body.w, t + remaining);
-        *evals += 1;
-    }
-    (end, end_c)
-}
-
-/// Pushes `s` out of the level triangles it overlaps and removes its momentum into the last
-/// one; returns whether it moved.
-fn push_out_of_levels(contacts: &Contacts, r: f64, s: &mut BodyState) -> bool {
-    let r = level_contact::level_radius(r);
-    let Some(n) = contacts.level_depenetrate(&mut s.p, r) else {
-        return false;
-    };
-    let mv_n = n.dot(s.mv);
-    if mv_n < 0.0 {
-        s.mv -= mv_n * n;
-    }
-    true
-}
-
-fn clamp_outside(ctx: &StepContext, body: Particle, s: &mut BodyState) {
-    if ctx.contacts.has_levels() {
-        push_out_of_levels(ctx.contacts, body.r, s);
-    }
-    if let Some(plane) = planes(ctx.contacts, s.p, body.r).next()
-        && plane.surface == Surface::Ground
-    {
-        let d = plane.distance(s.p);
-        if d < 0.0 {
-            s.p -= d * plane.normal;
-            let mv_n = plane.normal.dot(s.mv);
-            s.mv -= mv_n.min(0.0) * plane.normal;
-        }
-    }
-}
-
 /// Looks for target entries and closest approaches on the segment from `a` over `duration` to
 /// `b`. The distance to a target's centre along the segment falls while `(p - c) . V < 0`, so
 /// its minimum is at the sign change of that rate (if inside the segment) or at an end.
@@ -629,56 +500,6 @@ fn resolve_discrete<S: Scheme>(
         }
     }
     (s, c)
-}
-
-/// Finds a root of `f` between `lo.0` and `hi.0`, where `f(lo.0) = lo.1` and `f(hi.0) = hi.1`
-/// have opposite signs (`>= 0` counts as positive). Illinois regula falsi with a bisection every
-/// fourth step, so it converges superlinearly on smooth functions and never slower than
-/// bisection. Returns the point on `lo`'s side of the root (for a contact: not yet touching)
-/// within a few ulps, and the number of evaluations of `f`.
-pub(crate) fn bracketed_root(
-    mut f: impl FnMut(f64) -> f64,
-    lo: (f64, f64),
-    hi: (f64, f64),
-) -> (f64, u64) {
-    let ((mut a, mut fa), (mut b, mut fb)) = (lo, hi);
-    let positive_at_a = fa >= 0.0;
-    // Absolute floor of the tolerance, so a root at 0 ends the search too.
-    let floor = 1e-3 * (b - a).abs();
-    let mut evals = 0;
-    let mut last_side = 0i8;
-    for i in 0..400 {
-        let width = b - a;
-        if width.abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs()).max(floor) {
-            break;
-        }
-        let mut x = if i % 4 == 3 {
-            0.5 * (a + b)
-        } else {
-            (a * fb - b * fa) / (fb - fa)
-        };
-        if !((x > a.min(b)) && (x < a.max(b))) {
-            x = 0.5 * (a + b);
-        }
-        let fx = f(x);
-        evals += 1;
-        if (fx >= 0.0) == positive_at_a {
-            a = x;
-            fa = fx;
-            if last_side == -1 {
-                fb *= 0.5;
-            }
-            last_side = -1;
-        } else {
-            b = x;
-            fb = fx;
-            if last_side == 1 {
-                fa *= 0.5;
-            }
-            last_side = 1;
-        }
-    }
-    (a, evals)
 }
 
 #[cfg(test)]

@@ -27,7 +27,7 @@
 //! it is halved (one partial step at the midpoint), earlier half first, depth first. A piece
 //! whose end value is `<= 0` holds a root; once such a piece is shorter than the crossing's
 //! resolution (chord plus margin), it is handed to the bracketed root finder
-//! ([`super::bracketed_root`], Illinois), which converges to a few ulps of time. So:
+//! ([`bracketed_root`], Illinois), which converges to a few ulps of time. So:
 //! - no miss: a piece is dropped only when the bound proves the path cannot come within reach;
 //! - the first root: earlier pieces are settled before later ones are looked at, and two roots
 //!   closer than the resolution (in path length) are not told apart;
@@ -136,7 +136,7 @@ fn refine(
     b: PathPoint,
 ) -> (PathPoint, PathPoint) {
     let mut last: Option<PathPoint> = None;
-    let (tau, _) = super::bracketed_root(
+    let (tau, _) = bracketed_root(
         |tau| {
             let s = path(tau);
             let value = crossing.value(&s);
@@ -160,6 +160,56 @@ fn refine(
         }
     };
     (lo, b)
+}
+
+/// Finds a root of `f` between `lo.0` and `hi.0`, where `f(lo.0) = lo.1` and `f(hi.0) = hi.1`
+/// have opposite signs (`>= 0` counts as positive). Illinois regula falsi with a bisection every
+/// fourth step, so it converges superlinearly on smooth functions and never slower than
+/// bisection. Returns the point on `lo`'s side of the root (for a contact: not yet touching)
+/// within a few ulps, and the number of evaluations of `f`.
+pub(crate) fn bracketed_root(
+    mut f: impl FnMut(f64) -> f64,
+    lo: (f64, f64),
+    hi: (f64, f64),
+) -> (f64, u64) {
+    let ((mut a, mut fa), (mut b, mut fb)) = (lo, hi);
+    let positive_at_a = fa >= 0.0;
+    // Absolute floor of the tolerance, so a root at 0 ends the search too.
+    let floor = 1e-3 * (b - a).abs();
+    let mut evals = 0;
+    let mut last_side = 0i8;
+    for i in 0..400 {
+        let width = b - a;
+        if width.abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs()).max(floor) {
+            break;
+        }
+        let mut x = if i % 4 == 3 {
+            0.5 * (a + b)
+        } else {
+            (a * fb - b * fa) / (fb - fa)
+        };
+        if !((x > a.min(b)) && (x < a.max(b))) {
+            x = 0.5 * (a + b);
+        }
+        let fx = f(x);
+        evals += 1;
+        if (fx >= 0.0) == positive_at_a {
+            a = x;
+            fa = fx;
+            if last_side == -1 {
+                fb *= 0.5;
+            }
+            last_side = -1;
+        } else {
+            b = x;
+            fb = fx;
+            if last_side == 1 {
+                fa *= 0.5;
+            }
+            last_side = 1;
+        }
+    }
+    (a, evals)
 }
 
 #[cfg(test)]
