@@ -26,7 +26,10 @@
 //!   forces ([`Forces`], [`ForceKind`], [`Spring`], [`PointMass`], [`MachDrag`] with its
 //!   [`DragTable`], [`Atmosphere`] and [`SpinLift`], a motor's [`Thrust`], a game's own
 //!   [`ForceTerm`] with [`register_force_term`]); contacts ([`Ground`],
-//!   [`Wall`], [`Target`], [`Detection`]) and what they report ([`Event`], [`EventKind`]).
+//!   [`Wall`], [`Target`], [`Detection`]), level surfaces ([`MeshSurface`] of a
+//!   [`MeshGeometry`], [`HeightfieldSurface`] of a [`HeightGrid`], placed by a [`Transform`],
+//!   read from a [`LevelSource`], refused with a [`LevelError`]) and what they report
+//!   ([`Event`], [`EventKind`], [`Surface`]).
 //! - **The loop**: [`SimLoop`] and its [`TickObserver`]s, the [`FixedClock`] with its
 //!   [`LoopPolicy`], frame sources ([`RealClock`], [`VirtualClock`]), and where to draw between
 //!   ticks ([`DrawMode`]; Volley's measured defaults [`DEFAULT_POLICY`] and [`DEFAULT_DRAW`]).
@@ -218,8 +221,8 @@ pub use clock::{
 };
 pub use command::{Command, CommandError, CommandParseError, ScriptError, Stamped, parse_script};
 pub use contact::{
-    Detection, Event, EventKind, Ground, HeightGrid, HeightfieldSurface, LevelSource, MeshGeometry,
-    MeshSurface, Surface, Target, Transform, Wall,
+    Aabb, Detection, Event, EventKind, Ground, HeightGrid, HeightfieldSurface, LevelSource,
+    MeshGeometry, MeshSurface, Surface, Target, Transform, Wall,
 };
 pub use drag::DragTable;
 pub use firing::{

@@ -62,9 +62,14 @@ impl Crossing for LevelGap<'_> {
             - self.r
     }
 
+    /// Whether the ball can bring the body's centre nearer a triangle than its radius less the
+    /// touching tolerance: a path that only grazes at the touching distance (sliding along an
+    /// edge it rests on) is no crossing, and pieces of it are cleared instead of split forever.
     #[inline]
     fn possible(&mut self, center: DVec3, radius: f64) -> bool {
-        self.contacts.level_near(center, radius + self.r, self.skip)
+        let slack = touch_limit(self.r, center) - self.r;
+        self.contacts
+            .level_near(center, (radius + self.r - slack).max(0.0), self.skip)
     }
 
     #[inline]

@@ -49,6 +49,13 @@ pub const SAFETY: f64 = 2.0;
 /// inside it, so a tangent graze ends here.
 pub const MAX_DEPTH: u32 = 48;
 
+/// Most pieces one search looks at. A path that keeps within rounding of the crossing's zero
+/// without crossing it could otherwise be split down to [`MAX_DEPTH`] everywhere (2^48 pieces);
+/// past this budget the search ends with no root, and the contact stage's end-of-step push-out
+/// keeps the body outside. Far more than a search needs: a root found through 48 halvings with
+/// every sibling asked about is under a hundred pieces.
+pub const MAX_PIECES: u32 = 4096;
+
 /// A point of the path: time from the segment's start (s) and the state there.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PathPoint {
@@ -91,7 +98,9 @@ pub(crate) fn first_root(
     // Depth first, earlier half on top: at most one pending piece per level.
     let mut stack = [(a, b, 0u32); MAX_DEPTH as usize + 2];
     let mut top = 1;
-    while top > 0 {
+    let mut pieces = 0;
+    while top > 0 && pieces < MAX_PIECES {
+        pieces += 1;
         top -= 1;
         let (a, b, depth) = stack[top];
         let duration = b.tau - a.tau;
