@@ -34,7 +34,9 @@ pub use level::{
     BLOCK, HeightGrid, HeightfieldSurface, LevelSource, MeshGeometry, MeshSurface, Transform,
 };
 pub use level_contact::MIN_LEVEL_RADIUS;
-pub use roots::{MAX_DEPTH as ROOT_MAX_DEPTH, MAX_PIECES as ROOT_MAX_PIECES, SAFETY as ROOT_SAFETY};
+pub use roots::{
+    MAX_DEPTH as ROOT_MAX_DEPTH, MAX_PIECES as ROOT_MAX_PIECES, SAFETY as ROOT_SAFETY,
+};
 pub use surfaces::*;
 pub use triangle::{Feature, closest_point, is_degenerate};
 

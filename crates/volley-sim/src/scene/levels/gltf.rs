@@ -22,8 +22,33 @@ pub fn read_gltf(
     file: &str,
     buffer: &mut dyn FnMut(&str) -> Result<Vec<u8>, LevelError>,
 ) -> Result<(MeshGeometry, Vec<Vec<u8>>), LevelError> {
-    let gltf = gltf::Gltf::from_slice(bytes)
-        .map_err(|e| LevelError::new(file, format!("not a readable glTF file: {e}")))?;
+    let unreadable =
+        |e: gltf::Error| LevelError::new(file, format!("not a readable glTF file: {e}"));
+    let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(unreadable)?;
+    // gltf-json's validation indexes the accessors by a primitive's POSITION before checking
+    // the index (a panic, found by fuzzing): check it here first, then validate.
+    let json = raw.document.into_json();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for p in &mesh.primitives {
+            let position = gltf::json::validation::Checked::Valid(gltf::Semantic::Positions);
+            if let Some(i) = p.attributes.get(&position)
+                && i.value() >= json.accessors.len()
+            {
+                return Err(LevelError::new(
+                    file,
+                    format!(
+                        "mesh {m}'s POSITION names accessor {}, past the file's {}",
+                        i.value(),
+                        json.accessors.len()
+                    ),
+                ));
+            }
+        }
+    }
+    let gltf = gltf::Gltf {
+        document: gltf::Document::from_json(json).map_err(unreadable)?,
+        blob: raw.blob,
+    };
     let mut data: Vec<Vec<u8>> = Vec::new();
     let mut external = Vec::new();
     for b in gltf.document.buffers() {
