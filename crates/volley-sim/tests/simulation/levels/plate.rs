@@ -31,6 +31,11 @@ fn a_900_m_s_bullet_hits_the_plate_at_30_and_60_hz_for_every_integrator() {
             let hits = impacts(&events, 0);
             assert_eq!(hits.len(), 1, "{integrator} at {dt}: {hits:?}");
             let (t, surface, speed) = hits[0];
+            eprintln!(
+                "{integrator} at {:.0} Hz: time of impact off by {:.1e} s",
+                1.0 / dt,
+                t - t_star
+            );
             assert!(
                 (t - t_star).abs() <= TOI,
                 "{integrator} at {dt}: {t} vs {t_star}"
@@ -73,12 +78,16 @@ fn grazing_shots_from_half_a_degree_to_ninety_hit_the_face_on_time() {
     for integrator in every(&scene) {
         let s = with(&scene, integrator);
         let (events, world) = events(&s, 3);
+        let mut worst = 0.0f64;
         for (k, b) in s.bodies.iter().enumerate() {
-            // x(t) = x0 + vx t for every integrator: it touches at x = FACE - R.
-            let t_star = (FACE - R - b.position.x) / b.velocity.x;
+            // x(t) = x0 + vx t for every integrator: it touches the face, which the glTF holds
+            // in f32 (x = 50 - 0.004999999888), at x = face - R.
+            let face = 50.0 + f64::from(-0.005f32);
+            let t_star = (face - R - b.position.x) / b.velocity.x;
             let hits = impacts(&events, k as u32);
             assert_eq!(hits.len(), 1, "{integrator} body {k}: {hits:?}");
             let (t, surface, speed) = hits[0];
+            worst = worst.max((t - t_star).abs());
             assert!(
                 (t - t_star).abs() <= TOI,
                 "{integrator} body {k}: {t} vs {t_star} ({} s off)",
@@ -96,6 +105,7 @@ fn grazing_shots_from_half_a_degree_to_ninety_hit_the_face_on_time() {
                 p.x
             );
         }
+        eprintln!("{integrator}: grazing times of impact off by at most {worst:.1e} s");
     }
 }
 
@@ -154,7 +164,7 @@ impl Shots {
 }
 
 /// Shots per integrator and rate: `VOLLEY_SHOTS` (the benchmark's 1e6 runs in release with
-/// `VOLLEY_SHOTS=1000000 cargo test -p volley-sim --release --test simulation tunnels --
+/// `VOLLEY_SHOTS=1000000 cargo test -p volley-sim --release --test simulation never_tunnel --
 /// --nocapture`), else a few hundred.
 fn shots() -> usize {
     std::env::var("VOLLEY_SHOTS")
@@ -199,11 +209,14 @@ fn seeded_shots_at_900_m_s_never_tunnel_through_the_plate() {
             }
             let ticks = scene.ticks_until(0.2);
             let (events, world) = events(&scene, ticks);
+            let mut hit = vec![false; n];
+            for e in &events {
+                if matches!(e.kind, volley_sim::EventKind::Impact { .. }) {
+                    hit[e.body.0 as usize] = true;
+                }
+            }
             let mut tunnels = 0;
-            for k in 0..n {
-                let hit = events.iter().any(|e| {
-                    e.body.0 == k as u64 && matches!(e.kind, volley_sim::EventKind::Impact { .. })
-                });
+            for (k, hit) in hit.iter().enumerate() {
                 let p = world.bodies().positions().get(k);
                 if !hit || p.x > FACE {
                     tunnels += 1;
