@@ -33,7 +33,9 @@
 //!   closer than the resolution (in path length) are not told apart;
 //! - a graze that dips in and out between two samples is found once the pieces are shorter
 //!   than its dip; a tangent touch, which never goes below zero, ends at [`MAX_DEPTH`] (pieces
-//!   of `2^-MAX_DEPTH` of the segment) as no root;
+//!   of `2^-MAX_DEPTH` of the segment) as no root, and a [`Crossing`] may clear pieces that
+//!   only come within its own tolerance of zero (the level gap does, at the touching
+//!   distance); at most [`MAX_PIECES`] pieces are looked at;
 //! - a root exactly on a segment boundary is found once: the search looks at `(ta, tb]`, a
 //!   value `<= 0` at `tb` is that segment's root, and the next segment starts there, touching,
 //!   which its caller handles before searching.
