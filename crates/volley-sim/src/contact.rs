@@ -25,6 +25,7 @@ mod roots;
 mod surfaces;
 mod triangle;
 
+use level_query::Candidates;
 use resting::{clamp_outside, settle};
 pub(crate) use roots::bracketed_root;
 
@@ -227,6 +228,12 @@ fn resolve_swept<S: Scheme>(
         *evals += n;
         (s, c)
     };
+    // The level triangles near the step, gathered once: every query of the step tests these.
+    let cands = ctx.contacts.has_levels().then(|| {
+        let r = level_contact::level_radius(body.r);
+        let grow = 2.0 * r + roots::margin(&s, &end, body.w.inv, ctx.h);
+        Candidates::gather(ctx.contacts, Aabb::of_segment(s.p, end.p, grow))
+    });
     for _ in 0..MAX_IMPACTS_PER_STEP {
         // Earliest surface crossing in this segment.
         let mut first: Option<(f64, Plane)> = None;
@@ -261,11 +268,12 @@ fn resolve_swept<S: Scheme>(
             _ => (end, end_c),
         };
         // Level surfaces, up to the first plane: the same path, searched by `roots`.
-        if ctx.contacts.has_levels() {
+        if let Some(tris) = &cands {
             let t_seg = ctx.t0 + elapsed;
             let mut path = |tau: f64| step(s, c, t_seg, tau, &mut evals).0;
             let found = level_contact::first_level_contact(
                 ctx,
+                tris,
                 (body.r, body.w.inv, None),
                 s,
                 (cut, at_cut.0),
@@ -330,20 +338,40 @@ fn resolve_swept<S: Scheme>(
                     });
                 }
                 let at = (ctx.t0 + elapsed, remaining);
-                let (s, c) = settle(scheme, ctx, body, plane, (s, c), at, &mut evals, out);
+                let (s, c) = settle(
+                    scheme,
+                    ctx,
+                    body,
+                    plane,
+                    (s, c),
+                    at,
+                    &mut evals,
+                    out,
+                    cands.as_ref(),
+                );
                 return (s, c, evals);
             }
         } else if -mv_n * body.w.inv <= ctx.rest_speed && tau == 0.0 {
             // Resting contact: slide along the surface for the rest of the step.
             let at = (ctx.t0 + elapsed, remaining);
-            let (s, c) = settle(scheme, ctx, body, plane, (s, c), at, &mut evals, out);
+            let (s, c) = settle(
+                scheme,
+                ctx,
+                body,
+                plane,
+                (s, c),
+                at,
+                &mut evals,
+                out,
+                cands.as_ref(),
+            );
             return (s, c, evals);
         }
         (end, end_c) = step(s, c, ctx.t0 + elapsed, remaining, &mut evals);
     }
     // Still bouncing after the cap (a body jittering in a corner): keep it outside every surface.
     let (mut s, mut c) = (end, end_c);
-    clamp_outside(ctx, body, &mut s);
+    clamp_outside(ctx, body, &mut s, cands.as_ref());
     if S::CARRIES_FORCE {
         c = scheme.start_carry(s, body.w, ctx.t0 + ctx.h);
         evals += 1; // the carried force: one evaluation

@@ -7,7 +7,7 @@
 use glam::DVec3;
 
 use super::bvh::Aabb;
-use super::level_query::Skip;
+use super::level_query::{LevelTriangles, Skip};
 use super::roots::{Crossing, PathPoint, first_root, margin};
 use super::{Contacts, Plane, StepContext};
 use crate::body::BodyState;
@@ -46,17 +46,17 @@ pub(crate) fn may_reach_levels(
 
 /// The distance to the nearest level triangle less the body's radius (capped at the radius:
 /// nothing nearer than twice the radius is looked for).
-struct LevelGap<'a> {
-    contacts: &'a Contacts,
+struct LevelGap<'a, T: LevelTriangles> {
+    tris: &'a T,
     r: f64,
     skip: Option<Skip>,
 }
 
-impl Crossing for LevelGap<'_> {
+impl<T: LevelTriangles> Crossing for LevelGap<'_, T> {
     #[inline]
     fn value(&mut self, s: &BodyState) -> f64 {
         let reach = 2.0 * self.r;
-        self.contacts
+        self.tris
             .level_nearest(s.p, reach, self.skip)
             .map_or(reach, |n| n.distance)
             - self.r
@@ -68,7 +68,7 @@ impl Crossing for LevelGap<'_> {
     #[inline]
     fn possible(&mut self, center: DVec3, radius: f64) -> bool {
         let slack = touch_limit(self.r, center) - self.r;
-        self.contacts
+        self.tris
             .level_near(center, (radius + self.r - slack).max(0.0), self.skip)
     }
 
@@ -89,6 +89,7 @@ impl Crossing for LevelGap<'_> {
 /// only something else on its way is looked for.
 pub(crate) fn first_level_contact(
     ctx: &StepContext,
+    tris: &impl LevelTriangles,
     (r, inv_m, sliding): (f64, f64, Option<(DVec3, f64)>),
     s: BodyState,
     (duration, end): (f64, BodyState),
@@ -103,7 +104,7 @@ pub(crate) fn first_level_contact(
     // Of the triangles touched at the start, the one moved into fastest.
     let v = s.mv * inv_m;
     let mut touched: Option<(f64, super::level_query::Nearest)> = None;
-    contacts.level_touching(s.p, limit, |n| {
+    tris.level_touching(s.p, limit, |n| {
         let rate = n.normal.dot(v);
         if n.normal != DVec3::ZERO && touched.is_none_or(|(best, _)| rate < best) {
             touched = Some((rate, n));
@@ -124,7 +125,7 @@ pub(crate) fn first_level_contact(
             restitution: n.restitution,
         };
         let mut gap = LevelGap {
-            contacts,
+            tris,
             r,
             skip: None,
         };
@@ -141,7 +142,7 @@ pub(crate) fn first_level_contact(
             plane: None,
         });
     }
-    let mut gap = LevelGap { contacts, r, skip };
+    let mut gap = LevelGap { tris, r, skip };
     let a = PathPoint {
         tau: 0.0,
         s,
@@ -156,7 +157,7 @@ pub(crate) fn first_level_contact(
         value: gap.value(&end),
     };
     let (lo, _) = first_root(path, inv_m, a, b, &mut gap)?;
-    let n = contacts.level_nearest(lo.s.p, 2.0 * r, skip)?;
+    let n = tris.level_nearest(lo.s.p, 2.0 * r, skip)?;
     if n.normal == DVec3::ZERO {
         return None;
     }

@@ -4,9 +4,8 @@
 
 use glam::DVec3;
 
-use super::{
-    Contacts, Event, EventKind, Particle, Plane, StepContext, Surface, level_contact, planes,
-};
+use super::level_query::{Candidates, LevelTriangles};
+use super::{Event, EventKind, Particle, Plane, StepContext, Surface, level_contact, planes};
 use crate::body::BodyState;
 use crate::integrate::Scheme;
 
@@ -26,6 +25,7 @@ pub(super) fn settle<S: Scheme>(
     (mut t, mut remaining): (f64, f64),
     evals: &mut u64,
     out: &mut Vec<Event>,
+    cands: Option<&Candidates>,
 ) -> (BodyState, DVec3) {
     let mv_n = plane.normal.dot(s.mv);
     s.mv -= mv_n * plane.normal;
@@ -39,7 +39,9 @@ pub(super) fn settle<S: Scheme>(
         }
     };
     let (mut end, mut end_c) = step(s, c, t, remaining, evals);
-    if ctx.contacts.has_levels() && remaining > 0.0 {
+    if let Some(tris) = cands
+        && remaining > 0.0
+    {
         let mut spent = 0;
         let mut path = |tau: f64| {
             let (s, _, n) = scheme.step_counted(s, body.w, t, tau, c);
@@ -53,6 +55,7 @@ pub(super) fn settle<S: Scheme>(
         );
         let met = level_contact::first_level_contact(
             ctx,
+            tris,
             (body.r, body.w.inv, Some(surface)),
             s,
             (remaining, end),
@@ -103,8 +106,8 @@ pub(super) fn settle<S: Scheme>(
     if mv_n < 0.0 {
         end.mv -= mv_n * plane.normal;
     }
-    if ctx.contacts.has_levels()
-        && push_out_of_levels(ctx.contacts, body.r, &mut end)
+    if let Some(tris) = cands
+        && push_out_of_levels(tris, body.r, &mut end)
         && S::CARRIES_FORCE
     {
         end_c = scheme.start_carry(end, body.w, t + remaining);
@@ -115,9 +118,9 @@ pub(super) fn settle<S: Scheme>(
 
 /// Pushes `s` out of the level triangles it overlaps and removes its momentum into the last
 /// one; returns whether it moved.
-fn push_out_of_levels(contacts: &Contacts, r: f64, s: &mut BodyState) -> bool {
+fn push_out_of_levels(tris: &impl LevelTriangles, r: f64, s: &mut BodyState) -> bool {
     let r = level_contact::level_radius(r);
-    let Some(n) = contacts.level_depenetrate(&mut s.p, r) else {
+    let Some(n) = tris.level_depenetrate(&mut s.p, r) else {
         return false;
     };
     let mv_n = n.dot(s.mv);
@@ -127,9 +130,14 @@ fn push_out_of_levels(contacts: &Contacts, r: f64, s: &mut BodyState) -> bool {
     true
 }
 
-pub(super) fn clamp_outside(ctx: &StepContext, body: Particle, s: &mut BodyState) {
-    if ctx.contacts.has_levels() {
-        push_out_of_levels(ctx.contacts, body.r, s);
+pub(super) fn clamp_outside(
+    ctx: &StepContext,
+    body: Particle,
+    s: &mut BodyState,
+    cands: Option<&Candidates>,
+) {
+    if let Some(tris) = cands {
+        push_out_of_levels(tris, body.r, s);
     }
     if let Some(plane) = planes(ctx.contacts, s.p, body.r).next()
         && plane.surface == Surface::Ground
