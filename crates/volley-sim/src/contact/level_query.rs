@@ -35,15 +35,23 @@ pub(crate) struct Skip {
     pub plane: Option<(DVec3, f64)>,
 }
 
+/// Whether triangle `t` lies in the plane `n . x = d` (to 1e-9 of the plane's offset).
+#[inline]
+pub(crate) fn in_plane(t: &[DVec3; 3], (n, d): (DVec3, f64)) -> bool {
+    let tol = 1e-9 * (1.0 + d.abs());
+    t.iter().all(|c| (n.dot(*c) - d).abs() <= tol)
+}
+
 impl Skip {
+    /// The cheap half: in the sliding plane.
     #[inline]
-    fn skips(&self, t: &[DVec3; 3]) -> bool {
-        if let Some((n, d)) = self.plane {
-            let tol = 1e-9 * (1.0 + d.abs());
-            if t.iter().all(|c| (n.dot(*c) - d).abs() <= tol) {
-                return true;
-            }
-        }
+    fn in_plane(&self, t: &[DVec3; 3]) -> bool {
+        self.plane.is_some_and(|p| in_plane(t, p))
+    }
+
+    /// The other half: touched at the start.
+    #[inline]
+    fn touched(&self, t: &[DVec3; 3]) -> bool {
         (closest_point(self.point, t[0], t[1], t[2]).0 - self.point).length() <= self.limit
     }
 }
@@ -76,11 +84,20 @@ pub(crate) trait LevelTriangles {
         f: F,
     ) -> bool;
 
+    /// Whether every level triangle that may come within `radius` of `center` lies in the
+    /// plane `n . x = d` (a body sliding on a flat part of a level: nothing else to meet).
+    fn only_plane(&self, center: DVec3, radius: f64, plane: (DVec3, f64)) -> bool {
+        !self.any_triangle(center, radius, |_, _, t| !in_plane(t, plane))
+    }
+
     /// Whether some level triangle (not skipped) comes within `radius` of `center`.
     fn level_near(&self, center: DVec3, radius: f64, skip: Option<Skip>) -> bool {
         self.any_triangle(center, radius, |_, _, t| {
+            if skip.is_some_and(|s| s.in_plane(t)) {
+                return false;
+            }
             let q = closest_point(center, t[0], t[1], t[2]).0;
-            (q - center).length() <= radius && !skip.is_some_and(|s| s.skips(t))
+            (q - center).length() <= radius && !skip.is_some_and(|s| s.touched(t))
         })
     }
 
@@ -88,11 +105,14 @@ pub(crate) trait LevelTriangles {
     fn level_nearest(&self, p: DVec3, reach: f64, skip: Option<Skip>) -> Option<Nearest> {
         let mut best: Option<Nearest> = None;
         self.any_triangle(p, reach, |surface, restitution, t| {
+            if skip.is_some_and(|s| s.in_plane(t)) {
+                return false;
+            }
             let q = closest_point(p, t[0], t[1], t[2]).0;
             let d = (p - q).length();
             if d <= reach
                 && best.is_none_or(|b| d < b.distance)
-                && !skip.is_some_and(|s| s.skips(t))
+                && !skip.is_some_and(|s| s.touched(t))
             {
                 best = Some(Nearest {
                     surface,

@@ -5,7 +5,9 @@
 use glam::DVec3;
 
 use super::level_query::{Candidates, LevelTriangles};
-use super::{Event, EventKind, Particle, Plane, StepContext, Surface, level_contact, planes};
+use super::{
+    Event, EventKind, Particle, Plane, StepContext, Surface, level_contact, planes, roots,
+};
 use crate::body::BodyState;
 use crate::integrate::Scheme;
 
@@ -39,6 +41,20 @@ pub(super) fn settle<S: Scheme>(
         }
     };
     let (mut end, mut end_c) = step(s, c, t, remaining, evals);
+    // On a flat part of a level (every triangle near the slide in the resting plane) there is
+    // nothing else to meet and nothing to push out of: the clamp onto the plane is all. The
+    // surface's own plane is the centre's less the radius it keeps.
+    let surface = (
+        plane.normal,
+        plane.offset - level_contact::level_radius(body.r),
+    );
+    let flat = cands.is_some_and(|tris| {
+        let reach = 0.5 * (end.p - s.p).length()
+            + roots::margin(&s, &end, body.w.inv, remaining)
+            + 2.0 * level_contact::level_radius(body.r);
+        tris.only_plane(0.5 * (s.p + end.p), reach, surface)
+    });
+    let cands = if flat { None } else { cands };
     if let Some(tris) = cands
         && remaining > 0.0
     {
@@ -48,11 +64,6 @@ pub(super) fn settle<S: Scheme>(
             spent += n;
             s
         };
-        // The surface's own plane: the centre's plane less the radius it keeps.
-        let surface = (
-            plane.normal,
-            plane.offset - level_contact::level_radius(body.r),
-        );
         let met = level_contact::first_level_contact(
             ctx,
             tris,
