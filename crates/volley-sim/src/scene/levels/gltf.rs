@@ -22,6 +22,19 @@ pub fn read_gltf(
     file: &str,
     buffer: &mut dyn FnMut(&str) -> Result<Vec<u8>, LevelError>,
 ) -> Result<(MeshGeometry, Vec<Vec<u8>>), LevelError> {
+    // The gltf crate subtracts the 12-byte header from a GLB's declared length unchecked (an
+    // overflow panic in debug builds, found by fuzzing): check it first.
+    if bytes.starts_with(b"glTF") && bytes.len() >= 12 {
+        let declared = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]);
+        if declared < 12 {
+            return Err(LevelError::new(
+                file,
+                format!(
+                    "not a readable glTF file: a GLB length of {declared} bytes, less than its 12-byte header"
+                ),
+            ));
+        }
+    }
     let unreadable =
         |e: gltf::Error| LevelError::new(file, format!("not a readable glTF file: {e}"));
     let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(unreadable)?;
@@ -146,6 +159,21 @@ impl Collect<'_> {
             if prim.mode() != gltf::mesh::Mode::Triangles {
                 continue;
             }
+            // The gltf crate's accessor reader trusts counts, strides and offsets (debug
+            // assertions and unchecked arithmetic, found by fuzzing): check every accessor it
+            // will read against its view and buffer first.
+            let bad =
+                |what: String| LevelError::new(self.file, format!("mesh {}: {what}", mesh.index()));
+            if let Some(a) = prim.get(&gltf::Semantic::Positions) {
+                check_accessor(&a, self.data, &[gltf::accessor::DataType::F32], 12)
+                    .map_err(|e| bad(format!("POSITION {e}")))?;
+            }
+            if let Some(a) = prim.indices() {
+                use gltf::accessor::DataType::{U8, U16, U32};
+                let size = a.data_type().size();
+                check_accessor(&a, self.data, &[U8, U16, U32], size)
+                    .map_err(|e| bad(format!("indices {e}")))?;
+            }
             let reader = prim.reader(|b| self.data.get(b.index()).map(Vec::as_slice));
             let Some(positions) = reader.read_positions() else {
                 return Err(LevelError::new(
@@ -183,5 +211,52 @@ impl Collect<'_> {
             }
         }
         Ok(())
+    }
+}
+
+/// Checks that accessor `a` is what the reader expects (one of `types`, elements of `size`
+/// bytes, no sparse storage) and that every element lies inside its view and buffer, with
+/// checked arithmetic.
+fn check_accessor(
+    a: &gltf::Accessor,
+    data: &[Vec<u8>],
+    types: &[gltf::accessor::DataType],
+    size: usize,
+) -> Result<(), String> {
+    let i = a.index();
+    if a.sparse().is_some() {
+        return Err(format!("accessor {i} is sparse, which is not read"));
+    }
+    if !types.contains(&a.data_type()) || a.size() != size {
+        return Err(format!(
+            "accessor {i} has {:?} x {:?}, not what it names",
+            a.data_type(),
+            a.dimensions()
+        ));
+    }
+    let Some(view) = a.view() else {
+        return Err(format!("accessor {i} has no buffer view"));
+    };
+    let stride = view.stride().unwrap_or(size);
+    if stride < size {
+        return Err(format!(
+            "accessor {i}'s stride {stride} is below its element size {size}"
+        ));
+    }
+    let buffer = data.get(view.buffer().index()).map_or(0, Vec::len);
+    let view_end = view.offset().checked_add(view.length());
+    let end = (a.count() as u64)
+        .checked_sub(1)
+        .and_then(|n| n.checked_mul(stride as u64))
+        .and_then(|n| n.checked_add(a.offset() as u64))
+        .and_then(|n| n.checked_add(size as u64));
+    match (view_end, end) {
+        (Some(v), Some(e)) if v <= buffer && e <= view.length() as u64 => Ok(()),
+        (_, None) if a.count() == 0 => Err(format!("accessor {i} has no elements")),
+        _ => Err(format!(
+            "accessor {i} reaches past its buffer view or buffer ({} elements from byte {})",
+            a.count(),
+            a.offset()
+        )),
     }
 }
