@@ -254,6 +254,7 @@ pub fn recording(data: &[u8]) {
 }
 
 /// **The window's input scripts** (`--script`): parse; no panic on any text.
+#[cfg(feature = "window")]
 pub fn window_script(data: &[u8]) {
     let Some(text) = text(data) else { return };
     if let Ok(steps) = volley::app::script::parse(text, "fuzz.script") {
@@ -338,4 +339,121 @@ fn check_timing(timing: &DisplayTiming) {
             );
         }
     }
+}
+
+/// Drops a ball on `scene`'s level surface (above the middle of its box) and steps it for
+/// [`LEVEL_TICKS`] ticks with swept contact, then again with discrete: every state finite, and
+/// the world never diverges (a still surface cannot add energy).
+fn drop_on_level(scene: volley_sim::SceneBuilder, bounds: volley_sim::internals::contact::Aabb) {
+    use volley_sim::{BodySpec, Detection};
+    let c = 0.5 * (bounds.min + bounds.max);
+    let top = bounds.max.z + 1.0;
+    if !(c.is_finite() && top.is_finite()) {
+        return;
+    }
+    for detection in [Detection::Swept, Detection::Discrete] {
+        let Ok(scene) = scene
+            .clone()
+            .gravity(glam::DVec3::new(0.0, 0.0, -9.81))
+            .detection(detection)
+            .body(BodySpec {
+                mass: 1.0,
+                radius: 0.05,
+                position: glam::DVec3::new(c.x, c.y, top),
+                velocity: glam::DVec3::new(0.3, 0.2, -5.0),
+                spin: glam::DVec3::ZERO,
+            })
+            .build()
+        else {
+            return;
+        };
+        let mut world = World::new(&scene);
+        step_checked(&mut world, LEVEL_TICKS);
+    }
+}
+
+/// Ticks [`obj`], [`gltf`] and [`heightmap`] step a ball on what they read.
+pub const LEVEL_TICKS: u64 = 60;
+
+/// **Wavefront OBJ level meshes**: read with the scene's reader (tobj); a mesh that reads has
+/// triangles whose indices are all below its vertex count and no degenerate one, builds its
+/// hierarchy, and a ball dropped on it steps finite.
+pub fn obj(data: &[u8]) {
+    let Ok(mesh) = scene::read_obj(data, "fuzz.obj") else {
+        return;
+    };
+    check_mesh(mesh);
+}
+
+/// **glTF 2.0 level meshes** (`.glb`, or `.gltf` JSON whose external buffers are refused here):
+/// the same property as [`obj`].
+pub fn gltf(data: &[u8]) {
+    let mut no_files = |uri: &str| Err(scene::LevelError::new(uri, "no files while fuzzing"));
+    let Ok((mesh, _)) = scene::read_gltf(data, "fuzz.glb", &mut no_files) else {
+        return;
+    };
+    check_mesh(mesh);
+}
+
+fn check_mesh(mesh: volley_sim::MeshGeometry) {
+    use volley_sim::internals::contact::is_degenerate;
+    let n = mesh.vertices.len();
+    for t in &mesh.triangles {
+        assert!(
+            t.iter().all(|&i| (i as usize) < n),
+            "index past the vertices"
+        );
+        let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+        assert!(!is_degenerate(a, b, c), "a degenerate triangle was kept");
+    }
+    if mesh.triangles.len() > 4096 {
+        return; // read and checked; too big to step within the harness's budget
+    }
+    let surface = volley_sim::MeshSurface::new(
+        "fuzz",
+        volley_sim::LevelSource::Inline,
+        0,
+        std::sync::Arc::new(mesh.clone()),
+        volley_sim::Transform::IDENTITY,
+        0.5,
+    );
+    let bounds = surface.bounds();
+    let scene =
+        Scene::builder("fuzz", 1.0 / 60.0).mesh("fuzz", mesh, volley_sim::Transform::IDENTITY, 0.5);
+    drop_on_level(scene, bounds);
+}
+
+/// **Heightfield PNGs** (16-bit grayscale): a PNG that reads has `columns x rows` finite
+/// heights, and a ball dropped on it steps finite.
+pub fn heightmap(data: &[u8]) {
+    let Ok(grid) = scene::read_heightmap_png(data, "fuzz.png", 0.001) else {
+        return;
+    };
+    assert_eq!(
+        grid.heights.len() as u64,
+        u64::from(grid.columns) * u64::from(grid.rows)
+    );
+    assert!(grid.heights.iter().all(|h| h.is_finite()));
+    if grid.heights.len() > 1 << 16 {
+        return;
+    }
+    let surface = volley_sim::HeightfieldSurface::new(
+        "fuzz",
+        volley_sim::LevelSource::Inline,
+        0,
+        std::sync::Arc::new(grid.clone()),
+        0.5,
+        1.0,
+        volley_sim::Transform::IDENTITY,
+        0.5,
+    );
+    let bounds = surface.bounds();
+    let scene = Scene::builder("fuzz", 1.0 / 60.0).heightfield(
+        "fuzz",
+        grid,
+        0.5,
+        volley_sim::Transform::IDENTITY,
+        0.5,
+    );
+    drop_on_level(scene, bounds);
 }

@@ -98,6 +98,7 @@ fn recording_regressions() {
     assert!(replay("recording", volley_fuzz::recording) >= 2);
 }
 
+#[cfg(feature = "window")]
 #[test]
 fn window_script_regressions() {
     reader_sorts("window_script", |text, name| {
@@ -120,6 +121,55 @@ fn pacing_shard_regressions() {
         volley_lab::pacing::shard::PacingShard::from_json(text, name).is_ok()
     });
     replay("pacing_shard", volley_fuzz::pacing_shard);
+}
+
+/// [`reader_sorts`] for a binary reader.
+fn reader_sorts_bytes(target: &str, reads: fn(&[u8]) -> bool) {
+    let (mut valid, mut malformed) = (0, 0);
+    for file in inputs(target) {
+        let name = file.file_name().unwrap().to_str().unwrap().to_owned();
+        let data = std::fs::read(&file).unwrap();
+        if name.starts_with("valid-") {
+            assert!(reads(&data), "{}: refused", file.display());
+            valid += 1;
+        } else if name.starts_with("malformed-") {
+            assert!(!reads(&data), "{}: accepted", file.display());
+            malformed += 1;
+        }
+    }
+    assert!(
+        valid > 0 && malformed > 0,
+        "regression/{target}: {valid} valid-* and {malformed} malformed-* inputs, one of each at least"
+    );
+}
+
+#[test]
+fn obj_regressions() {
+    reader_sorts_bytes("obj", |data| {
+        volley_sim::internals::scene::read_obj(data, "fuzz.obj").is_ok()
+    });
+    replay("obj", volley_fuzz::obj);
+}
+
+#[test]
+fn gltf_regressions() {
+    reader_sorts_bytes("gltf", |data| {
+        let mut none = |uri: &str| {
+            Err(volley_sim::internals::scene::LevelError::new(
+                uri, "no files",
+            ))
+        };
+        volley_sim::internals::scene::read_gltf(data, "fuzz.glb", &mut none).is_ok()
+    });
+    replay("gltf", volley_fuzz::gltf);
+}
+
+#[test]
+fn heightmap_regressions() {
+    reader_sorts_bytes("heightmap", |data| {
+        volley_sim::internals::scene::read_heightmap_png(data, "fuzz.png", 0.001).is_ok()
+    });
+    replay("heightmap", volley_fuzz::heightmap);
 }
 
 #[test]

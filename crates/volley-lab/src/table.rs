@@ -9,7 +9,7 @@
 
 use std::io::Write;
 
-use volley_sim::internals::contact::{Event, EventKind, Surface};
+use volley_sim::internals::contact::{Event, EventKind};
 use volley_sim::internals::sim_loop::{ObserverError, TickObserver};
 use volley_sim::internals::world::World;
 
@@ -237,10 +237,7 @@ pub fn describe(e: &Event) -> String {
             normal_speed,
             depth,
         } => {
-            let on = match surface {
-                Surface::Ground => "ground".to_string(),
-                Surface::Wall(i) => format!("wall {i}"),
-            };
+            let on = surface.to_string();
             format!("{head}: impact on {on} at {normal_speed:.6} m/s, penetration {depth:.6} m")
         }
         EventKind::Rest { surface } => format!("{head}: came to rest on {surface:?}"),

@@ -1,4 +1,5 @@
-//! Contacts and events: the ground plane, thin walls, target spheres.
+//! Contacts and events: the ground plane, thin walls, target spheres, and level surfaces
+//! (static triangle meshes and heightfields).
 //!
 //! Swept detection (the default) finds the time of impact *inside* the step: the body is
 //! advanced from the start state by its own integrator over a sub-step `tau`, and `tau` is the
@@ -14,9 +15,31 @@ use glam::DVec3;
 use crate::body::{BodyId, BodyState, Mass};
 use crate::integrate::Scheme;
 
+mod bvh;
+mod heightfield;
+mod level;
+mod level_contact;
+mod level_query;
+mod resting;
+mod roots;
 mod surfaces;
+mod triangle;
 
+use level_query::Candidates;
+use resting::{clamp_outside, settle};
+pub(crate) use roots::bracketed_root;
+
+pub use bvh::{Aabb, Bvh, LEAF_SIZE};
+pub use heightfield::GridIndex;
+pub use level::{
+    BLOCK, HeightGrid, HeightfieldSurface, LevelSource, MeshGeometry, MeshSurface, Transform,
+};
+pub use level_contact::MIN_LEVEL_RADIUS;
+pub use roots::{
+    MAX_DEPTH as ROOT_MAX_DEPTH, MAX_PIECES as ROOT_MAX_PIECES, SAFETY as ROOT_SAFETY,
+};
 pub use surfaces::*;
+pub use triangle::{Feature, closest_point, is_degenerate};
 
 /// Where and when a step runs, as the contact stage needs it.
 #[derive(Clone, Copy)]
@@ -130,6 +153,9 @@ pub(crate) fn needs_resolution(
             return true;
         }
     }
+    if contacts.has_levels() && level_contact::may_reach_levels(contacts, r, inv_m, ctx.h, s0, s1) {
+        return true;
+    }
     for t in &contacts.targets {
         let (c0, c1) = (
             t.center_at(ctx.since_start),
@@ -202,6 +228,12 @@ fn resolve_swept<S: Scheme>(
         *evals += n;
         (s, c)
     };
+    // The level triangles near the step, gathered once: every query of the step tests these.
+    let cands = ctx.contacts.has_levels().then(|| {
+        let r = level_contact::level_radius(body.r);
+        let grow = 2.0 * r + roots::margin(&s, &end, body.w.inv, ctx.h);
+        Candidates::gather(ctx.contacts, Aabb::of_segment(s.p, end.p, grow))
+    });
     for _ in 0..MAX_IMPACTS_PER_STEP {
         // Earliest surface crossing in this segment.
         let mut first: Option<(f64, Plane)> = None;
@@ -230,11 +262,35 @@ fn resolve_swept<S: Scheme>(
                 first = Some((tau, plane));
             }
         }
-        let cut = first.map_or(remaining, |(tau, _)| tau);
-        let at_cut = match first {
+        let mut cut = first.map_or(remaining, |(tau, _)| tau);
+        let mut at_cut = match first {
             Some((tau, _)) if tau < remaining => step(s, c, ctx.t0 + elapsed, tau, &mut evals),
             _ => (end, end_c),
         };
+        // Level surfaces, up to the first plane: the same path, searched by `roots`.
+        if let Some(tris) = &cands {
+            let t_seg = ctx.t0 + elapsed;
+            let mut path = |tau: f64| step(s, c, t_seg, tau, &mut evals).0;
+            let found = level_contact::first_level_contact(
+                ctx,
+                tris,
+                (body.r, body.w.inv, None),
+                s,
+                (cut, at_cut.0),
+                &mut path,
+            );
+            if let Some((tau, plane)) = found
+                && (first.is_none() || tau < cut)
+            {
+                first = Some((tau, plane));
+                cut = tau;
+                at_cut = if tau < remaining {
+                    step(s, c, t_seg, tau, &mut evals)
+                } else {
+                    (end, end_c)
+                };
+            }
+        }
         targets_on_segment(
             scheme,
             ctx,
@@ -282,72 +338,45 @@ fn resolve_swept<S: Scheme>(
                     });
                 }
                 let at = (ctx.t0 + elapsed, remaining);
-                let (s, c) = settle(scheme, body, plane, (s, c), at, &mut evals);
+                let (s, c) = settle(
+                    scheme,
+                    ctx,
+                    body,
+                    plane,
+                    (s, c),
+                    at,
+                    &mut evals,
+                    out,
+                    cands.as_ref(),
+                );
                 return (s, c, evals);
             }
         } else if -mv_n * body.w.inv <= ctx.rest_speed && tau == 0.0 {
             // Resting contact: slide along the surface for the rest of the step.
             let at = (ctx.t0 + elapsed, remaining);
-            let (s, c) = settle(scheme, body, plane, (s, c), at, &mut evals);
+            let (s, c) = settle(
+                scheme,
+                ctx,
+                body,
+                plane,
+                (s, c),
+                at,
+                &mut evals,
+                out,
+                cands.as_ref(),
+            );
             return (s, c, evals);
         }
         (end, end_c) = step(s, c, ctx.t0 + elapsed, remaining, &mut evals);
     }
     // Still bouncing after the cap (a body jittering in a corner): keep it outside every surface.
     let (mut s, mut c) = (end, end_c);
-    clamp_outside(ctx, body, &mut s);
+    clamp_outside(ctx, body, &mut s, cands.as_ref());
     if S::CARRIES_FORCE {
         c = scheme.start_carry(s, body.w, ctx.t0 + ctx.h);
         evals += 1; // the carried force: one evaluation
     }
     (s, c, evals)
-}
-
-/// A body resting on `plane`: integrate the rest of the step with no normal momentum into the
-/// surface and clamp it onto the surface.
-fn settle<S: Scheme>(
-    scheme: &S,
-    body: Particle,
-    plane: Plane,
-    (mut s, c): (BodyState, DVec3),
-    (t, remaining): (f64, f64),
-    evals: &mut u64,
-) -> (BodyState, DVec3) {
-    let mv_n = plane.normal.dot(s.mv);
-    s.mv -= mv_n * plane.normal;
-    let (mut end, mut end_c) = if remaining > 0.0 {
-        let (end, end_c, n) = scheme.step_counted(s, body.w, t, remaining, c);
-        *evals += n;
-        (end, end_c)
-    } else {
-        (s, c)
-    };
-    let d = plane.distance(end.p);
-    if d < 0.0 {
-        end.p -= d * plane.normal;
-        if S::CARRIES_FORCE {
-            end_c = scheme.start_carry(end, body.w, t + remaining);
-            *evals += 1;
-        }
-    }
-    let mv_n = plane.normal.dot(end.mv);
-    if mv_n < 0.0 {
-        end.mv -= mv_n * plane.normal;
-    }
-    (end, end_c)
-}
-
-fn clamp_outside(ctx: &StepContext, body: Particle, s: &mut BodyState) {
-    if let Some(plane) = planes(ctx.contacts, s.p, body.r).next()
-        && plane.surface == Surface::Ground
-    {
-        let d = plane.distance(s.p);
-        if d < 0.0 {
-            s.p -= d * plane.normal;
-            let mv_n = plane.normal.dot(s.mv);
-            s.mv -= mv_n.min(0.0) * plane.normal;
-        }
-    }
 }
 
 /// Looks for target entries and closest approaches on the segment from `a` over `duration` to
@@ -441,6 +470,8 @@ fn resolve_discrete<S: Scheme>(
                 let w = &ctx.contacts.walls[i as usize];
                 w.normal.dot(s.p - w.point).abs() < 0.5 * w.thickness + body.r
             }
+            // `planes` yields only the ground and walls.
+            Surface::Mesh { .. } | Surface::Heightfield { .. } => false,
         };
         if !inside {
             continue;
@@ -458,6 +489,24 @@ fn resolve_discrete<S: Scheme>(
                     surface: plane.surface,
                     normal_speed: -mv_n * body.w.inv,
                     depth: -d,
+                },
+            });
+        }
+    }
+    if let Some((plane, depth)) = level_contact::discrete_level_contact(ctx.contacts, body.r, s.p) {
+        let mv_n = plane.normal.dot(s.mv);
+        s.p += depth * plane.normal;
+        moved = true;
+        if mv_n < 0.0 {
+            s.mv -= ((1.0 + plane.restitution) * mv_n) * plane.normal;
+            out.push(Event {
+                tick: ctx.tick,
+                time: t_end,
+                body: body.id,
+                kind: EventKind::Impact {
+                    surface: plane.surface,
+                    normal_speed: -mv_n * body.w.inv,
+                    depth,
                 },
             });
         }
@@ -481,56 +530,6 @@ fn resolve_discrete<S: Scheme>(
         }
     }
     (s, c)
-}
-
-/// Finds a root of `f` between `lo.0` and `hi.0`, where `f(lo.0) = lo.1` and `f(hi.0) = hi.1`
-/// have opposite signs (`>= 0` counts as positive). Illinois regula falsi with a bisection every
-/// fourth step, so it converges superlinearly on smooth functions and never slower than
-/// bisection. Returns the point on `lo`'s side of the root (for a contact: not yet touching)
-/// within a few ulps, and the number of evaluations of `f`.
-pub(crate) fn bracketed_root(
-    mut f: impl FnMut(f64) -> f64,
-    lo: (f64, f64),
-    hi: (f64, f64),
-) -> (f64, u64) {
-    let ((mut a, mut fa), (mut b, mut fb)) = (lo, hi);
-    let positive_at_a = fa >= 0.0;
-    // Absolute floor of the tolerance, so a root at 0 ends the search too.
-    let floor = 1e-3 * (b - a).abs();
-    let mut evals = 0;
-    let mut last_side = 0i8;
-    for i in 0..400 {
-        let width = b - a;
-        if width.abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs()).max(floor) {
-            break;
-        }
-        let mut x = if i % 4 == 3 {
-            0.5 * (a + b)
-        } else {
-            (a * fb - b * fa) / (fb - fa)
-        };
-        if !((x > a.min(b)) && (x < a.max(b))) {
-            x = 0.5 * (a + b);
-        }
-        let fx = f(x);
-        evals += 1;
-        if (fx >= 0.0) == positive_at_a {
-            a = x;
-            fa = fx;
-            if last_side == -1 {
-                fb *= 0.5;
-            }
-            last_side = -1;
-        } else {
-            b = x;
-            fb = fx;
-            if last_side == 1 {
-                fa *= 0.5;
-            }
-            last_side = 1;
-        }
-    }
-    (a, evals)
 }
 
 #[cfg(test)]

@@ -30,8 +30,10 @@
 //!   [`Guard`]; forces ([`Forces`], [`ForceKind`], [`Spring`], [`PointMass`], [`MachDrag`] with
 //!   its [`DragCurve`], [`DragSize`], [`AirModel`], [`Wind`] and [`SpinLift`], a motor's
 //!   [`Thrust`], the game's own [`ForceTerm`]s as values in [`ForceTerms`], given a
-//!   [`ForceInput`]); contacts ([`Ground`], [`Wall`], [`Target`], [`Detection`]) and what they
-//!   report ([`Event`], [`EventKind`]).
+//!   [`ForceInput`]); contacts ([`Ground`], [`Wall`], [`Target`], [`Detection`]), level
+//!   surfaces ([`MeshSurface`] of a [`MeshGeometry`], [`HeightfieldSurface`] of a
+//!   [`HeightGrid`], placed by a [`Transform`], read from a [`LevelSource`], refused with a
+//!   [`LevelError`]) and what they report ([`Event`], [`EventKind`], [`Surface`]).
 //! - **The loop and the draw**: [`SimLoop`] and its [`TickObserver`]s, the [`FixedClock`] with
 //!   its [`LoopPolicy`], frame sources ([`RealClock`], [`VirtualClock`]), and where to draw
 //!   between ticks in one call, [`Draw`] (its [`DrawMode`]s; Volley's measured defaults
@@ -228,7 +230,10 @@ pub use command::{
     Command, CommandError, CommandParseError, MAX_SCRIPT_COMMANDS, ScriptError, ScriptProblem,
     Stamped, parse_script,
 };
-pub use contact::{Contacts, Detection, Event, EventKind, Ground, Surface, Target, Wall};
+pub use contact::{
+    Aabb, Contacts, Detection, Event, EventKind, Ground, HeightGrid, HeightfieldSurface,
+    LevelSource, MeshGeometry, MeshSurface, Surface, Target, Transform, Wall,
+};
 pub use drag::{DragTable, DragTableError, Interpolation};
 pub use draw::{DEFAULT_DRAW, DEFAULT_POLICY, Draw, DrawAt, DrawMode, LEAD_WINDOW, Lead};
 pub use exact::{AimError, Arc as LaunchArc};
@@ -247,11 +252,11 @@ pub use replay::{
     ErrorKind as ReplayErrorKind, FieldDiff, FirstDivergence, FlushPolicy,
     Footer as RecordingFooter, Header as RecordingHeader, KeyframeEntry, Mismatch, RecordOptions,
     RecordStats, Recorder, Recording, Replay, ReplayError, Value as FieldValue, Verifier,
-    format::Build as BuildInfo,
+    format::Build as BuildInfo, format::LevelHash,
 };
 pub use rng::SplitMix64;
 pub use scene::{
-    BodySpec, CompareLane, Guard, IntegratorError, InvalidValue, Launcher, MAX_BODIES,
+    BodySpec, CompareLane, Guard, IntegratorError, InvalidValue, Launcher, LevelError, MAX_BODIES,
     MAX_COMPARE_LANES, MAX_SUBSTEPS, MAX_TICK_WORK, MAX_VOLLEY, MIN_TOLERANCE, Scene, SceneBuilder,
     SceneError, ValueProblem, Volley, bundled as bundled_scene, load as load_scene,
     load_with as load_scene_with, parse as parse_scene, parse_with as parse_scene_with,

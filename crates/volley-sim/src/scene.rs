@@ -10,7 +10,7 @@ use std::time::Duration;
 use glam::DVec3;
 use serde::Deserialize;
 
-use crate::contact::{Detection, Ground, Target, Wall};
+use crate::contact::{Detection, Ground, HeightfieldSurface, MeshSurface, Target, Wall};
 use crate::drag::Interpolation;
 use crate::exact::{AimError, Arc, aim};
 use crate::forces::{
@@ -22,6 +22,7 @@ use crate::integrate::{DEFAULT_TOLERANCE, Integrator};
 mod builder;
 mod bundled;
 mod error;
+mod levels;
 mod raw;
 mod ron_error;
 #[cfg(test)]
@@ -31,6 +32,11 @@ mod validate;
 pub use builder::{BUILT, SceneBuilder};
 pub use bundled::{BUNDLED, bundled};
 pub use error::{IntegratorError, InvalidValue, SceneError, ValueProblem};
+pub(crate) use levels::LevelFiles;
+pub use levels::{
+    BUNDLED_LEVELS, LevelError, MAX_HEIGHTFIELD_CELLS, MAX_LEVEL_FILE_BYTES, MAX_LEVEL_TRIANGLES,
+    read_gltf, read_heightmap_png, read_obj, write_heightmap_png,
+};
 use raw::*;
 use validate::*;
 pub use validate::{check_integrator, timestep_from_secs};
@@ -103,6 +109,13 @@ pub struct Scene {
     pub(crate) walls: Vec<Wall>,
     /// Target spheres.
     pub(crate) targets: Vec<Target>,
+    /// Static triangle meshes (level geometry), read when the scene is.
+    pub(crate) meshes: Vec<MeshSurface>,
+    /// Heightfields (terrain), read when the scene is.
+    pub(crate) heightfields: Vec<HeightfieldSurface>,
+    /// The folder the level files its text names are read from (the scene file's own), so an
+    /// edit of the scene finds them again.
+    pub(crate) level_dir: std::path::PathBuf,
     /// Swept (time of impact inside the step) or discrete (overlap at the end of the step).
     pub(crate) detection: Detection,
     /// Bodies present at tick 0, in id order.
@@ -292,11 +305,25 @@ impl CompareLane {
 }
 
 impl Scene {
+    /// Static triangle meshes (level geometry), read when the scene was.
+    #[inline]
+    pub fn meshes(&self) -> &[MeshSurface] {
+        &self.meshes
+    }
+
+    /// Heightfields (terrain), read when the scene was.
+    #[inline]
+    pub fn heightfields(&self) -> &[HeightfieldSurface] {
+        &self.heightfields
+    }
+
     /// Whether `other` is this scene in everything a world is built from: every field but
-    /// the [`Scene::source`] text (a saved setup reads back to the same scene in other words).
+    /// the [`Scene::source`] text and the folder its level files were read from (a saved setup
+    /// reads back to the same scene in other words).
     pub fn same_as(&self, other: &Scene) -> bool {
         let mut copy = other.clone();
         copy.source.clone_from(&self.source);
+        copy.level_dir.clone_from(&self.level_dir);
         *self == copy
     }
 
@@ -540,7 +567,9 @@ pub fn load_with(path: &Path, terms: &ForceTerms) -> Result<Scene, SceneError> {
 
 /// Parses and validates scene text that names no game's own term; `file` labels errors,
 /// `default_name` is used if the scene has no `name` ([`parse_with`] takes the program's
-/// terms).
+/// terms). Level files the scene names (`meshes`, `heightfields`) are read relative to
+/// `file`'s folder (the current one if it has none); one not on disk whose path ends in
+/// `levels/NAME` for a file Volley ships ([`BUNDLED_LEVELS`]) is that file.
 pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Scene, SceneError> {
     parse_with(text, file, default_name, &ForceTerms::new())
 }
@@ -552,6 +581,18 @@ pub fn parse_with(
     default_name: &str,
     terms: &ForceTerms,
 ) -> Result<Scene, SceneError> {
+    parse_levels_in(text, file, default_name, terms, &LevelFiles::beside(file))
+}
+
+/// [`parse_with`] with the level files read from `files` (a scene's own folder, for an edit of
+/// a scene read from a file).
+pub(crate) fn parse_levels_in(
+    text: &str,
+    file: &str,
+    default_name: &str,
+    terms: &ForceTerms,
+    files: &LevelFiles,
+) -> Result<Scene, SceneError> {
     let options =
         ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     let raw: RawScene = options.from_str(text).map_err(|e| SceneError {
@@ -560,7 +601,7 @@ pub fn parse_with(
         field: None,
         message: ron_error::describe(&e.code),
     })?;
-    validate(raw, text, default_name, terms).map_err(|e| SceneError {
+    validate(raw, text, default_name, terms, files).map_err(|e| SceneError {
         file: file.to_string(),
         position: None,
         message: e.problem.to_string(),

@@ -147,6 +147,8 @@ impl Params {
                 ground: scene.ground,
                 walls: scene.walls.clone(),
                 targets: scene.targets.clone(),
+                meshes: scene.meshes.clone(),
+                heightfields: scene.heightfields.clone(),
                 detection: scene.detection,
             },
             guard: scene.guard,

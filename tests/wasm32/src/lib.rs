@@ -22,6 +22,10 @@ include!(concat!(env!("OUT_DIR"), "/scenes.rs"));
 /// spring, drag, a seeded volley, and every kind of command.
 const GOLDEN: &[u8] = include_bytes!("../../data/golden.vrec");
 
+/// The level golden recording (tests/data/levels_golden.vrec): meshes from OBJ, glTF and inline,
+/// a heightfield from a PNG (read from the copies the sim crate ships: no file system here).
+const LEVEL_GOLDEN: &[u8] = include_bytes!("../../data/levels_golden.vrec");
+
 /// The most ticks a scene is stepped: enough for every contact, command and divergence the
 /// bundled scenes reach early, short enough for a debug wasm build in Node.
 pub const MAX_TICKS: u64 = 300;
@@ -33,7 +37,7 @@ const CROWD: usize = 1000;
 
 /// One line per run, in a fixed order: `scene integrator ticks=N hash=0x...`, or the line
 /// that says how the run ended early (a refusal of the integrator, a divergence with its
-/// tick), then the golden recording's verify.
+/// tick), then the level golden recording's verify and the golden recording's.
 pub fn suite() -> Vec<String> {
     let mut lines = Vec::new();
     for (name, text) in SCENES {
@@ -60,7 +64,14 @@ pub fn suite() -> Vec<String> {
             ));
         }
     }
-    lines.push(format!("golden.vrec {}", golden()));
+    lines.push(format!(
+        "levels_golden.vrec {}",
+        golden("tests/data/levels_golden.vrec", LEVEL_GOLDEN)
+    ));
+    lines.push(format!(
+        "golden.vrec {}",
+        golden("tests/data/golden.vrec", GOLDEN)
+    ));
     lines
 }
 
@@ -81,10 +92,9 @@ fn run(scene: &volley_sim::Scene, integrator: Integrator, ticks: u64) -> String 
     }
 }
 
-/// The golden recording re-simulated and checked at every stored hash and keyframe.
-fn golden() -> String {
-    let label = "tests/data/golden.vrec";
-    let recording = match Recording::from_reader(Cursor::new(GOLDEN), label) {
+/// A golden recording re-simulated and checked at every stored hash and keyframe.
+fn golden(label: &str, bytes: &'static [u8]) -> String {
+    let recording = match Recording::from_reader(Cursor::new(bytes), label) {
         Ok(r) => r,
         Err(e) => return format!("unreadable: {e}"),
     };

@@ -126,9 +126,16 @@ fn the_native_suite_verifies_the_golden_recording() {
             .any(|l| l == "seed explicit-euler ticks=27 hash=0xe02a9ef4a1ddb321"),
         "{lines:#?}"
     );
+    // The level golden recording (tests/data/levels_golden.vrec), pinned by the sim crate's
+    // replay test: the line before the golden one.
+    assert_eq!(
+        lines[lines.len() - 2],
+        "levels_golden.vrec verified hashes=301 keyframes=7 final=0x9e55116e738644b6 \
+         footer=0x9e55116e738644b6"
+    );
     // Every integrator on every scene: refusals and divergences are lines too.
     let scenes = volley_wasm32::SCENES.len();
-    assert_eq!(lines.len(), scenes * volley_sim::Integrator::ALL.len() + 1);
+    assert_eq!(lines.len(), scenes * volley_sim::Integrator::ALL.len() + 2);
 }
 
 #[test]

@@ -216,7 +216,7 @@ pub(crate) fn run_point(
 }
 
 /// What an event is about, for matching: (body, 0 ground / 1 wall / 2 target hit / 3 target
-/// closest approach, index).
+/// closest approach / 4 mesh / 5 heightfield, index).
 fn key(e: &Event) -> Option<(BodyId, u8, u32)> {
     match e.kind {
         EventKind::Impact {
@@ -227,6 +227,14 @@ fn key(e: &Event) -> Option<(BodyId, u8, u32)> {
             surface: Surface::Wall(i),
             ..
         } => Some((e.body, 1, i)),
+        EventKind::Impact {
+            surface: Surface::Mesh { surface, .. },
+            ..
+        } => Some((e.body, 4, surface)),
+        EventKind::Impact {
+            surface: Surface::Heightfield { surface, .. },
+            ..
+        } => Some((e.body, 5, surface)),
         EventKind::Hit { target } => Some((e.body, 2, target)),
         EventKind::Approach { target, .. } => Some((e.body, 3, target)),
         EventKind::Rest { .. } => None,

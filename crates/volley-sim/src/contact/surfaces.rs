@@ -63,6 +63,10 @@ impl Target {
 }
 
 /// When contacts are detected.
+///
+/// For level surfaces (meshes, heightfields) discrete detection pushes a body that overlaps a
+/// triangle at the end of its step out along the nearest triangle's contact normal and reflects
+/// its normal momentum there; a body that went through a thin part in one step is missed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Detection {
     /// Time of impact solved inside the step; nothing is missed, impacts are on time.
@@ -82,6 +86,10 @@ pub struct Contacts {
     pub walls: Vec<Wall>,
     /// Targets.
     pub targets: Vec<Target>,
+    /// Static triangle meshes, in scene order.
+    pub meshes: Vec<MeshSurface>,
+    /// Heightfields, in scene order.
+    pub heightfields: Vec<HeightfieldSurface>,
     /// Detection mode.
     pub detection: Detection,
 }
@@ -89,7 +97,11 @@ pub struct Contacts {
 impl Contacts {
     /// Whether the scene declares no contacts (then the step skips this stage entirely).
     pub fn is_empty(&self) -> bool {
-        self.ground.is_none() && self.walls.is_empty() && self.targets.is_empty()
+        self.ground.is_none()
+            && self.walls.is_empty()
+            && self.targets.is_empty()
+            && self.meshes.is_empty()
+            && self.heightfields.is_empty()
     }
 }
 
@@ -100,6 +112,42 @@ pub enum Surface {
     Ground,
     /// The wall with this index in the scene.
     Wall(u32),
+    /// A triangle of a mesh.
+    Mesh {
+        /// Index of the mesh in the scene's `meshes`.
+        surface: u32,
+        /// Index of the triangle in the mesh as read (degenerate ones dropped, see
+        /// [`MeshGeometry::degenerate`]).
+        triangle: u32,
+    },
+    /// A triangle of a heightfield's cell.
+    Heightfield {
+        /// Index of the heightfield in the scene's `heightfields`.
+        surface: u32,
+        /// The cell, `row * (columns - 1) + column` (its corner sample is at that column and
+        /// row).
+        cell: u32,
+        /// Which half of the cell: 0 below its diagonal from `(i, j)` to `(i + 1, j + 1)` (the
+        /// side of `(i + 1, j)`), 1 above it.
+        triangle: u8,
+    },
+}
+
+impl std::fmt::Display for Surface {
+    /// `ground`, `wall 1`, `mesh 0 triangle 5`, `heightfield 0 cell 12.1` (cell 12, its upper
+    /// half).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Surface::Ground => f.write_str("ground"),
+            Surface::Wall(i) => write!(f, "wall {i}"),
+            Surface::Mesh { surface, triangle } => write!(f, "mesh {surface} triangle {triangle}"),
+            Surface::Heightfield {
+                surface,
+                cell,
+                triangle,
+            } => write!(f, "heightfield {surface} cell {cell}.{triangle}"),
+        }
+    }
 }
 
 /// Something that happened to a body during a tick.

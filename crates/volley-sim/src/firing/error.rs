@@ -147,7 +147,7 @@ impl std::error::Error for FiringError {}
 pub fn blocked_text(b: &Blocked) -> String {
     let surface = match b.surface {
         Surface::Ground => "the ground".to_string(),
-        Surface::Wall(i) => format!("wall {i}"),
+        s => s.to_string(),
     };
     format!("hits {surface} at {:.4} s (tick {})", b.time, b.tick)
 }

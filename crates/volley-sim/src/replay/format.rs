@@ -41,6 +41,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::forces::ForceKind;
 use crate::integrate::Integrator;
+use crate::scene::Scene;
 use crate::world::{BodyId, Divergence, DivergenceCause};
 
 /// The first 8 bytes of every recording (PNG-style: a high byte, a name, a newline, so a text-
@@ -312,6 +313,11 @@ pub struct Header {
     /// are byte-identical to before it existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tolerance: Option<f64>,
+    /// The level files the scene read (meshes, then heightfields, as the scene lists them) and
+    /// the xxh3 of each one's bytes: a replay refuses a level that changed. Absent for scenes
+    /// without level files, so their recordings are byte-identical to before levels existed.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub levels: Vec<LevelHash>,
     /// Tick of the first keyframe, where the recording starts.
     pub start_tick: u64,
     /// Hashes are stored at ticks that are multiples of this (and at the start and end).
@@ -320,6 +326,41 @@ pub struct Header {
     pub keyframe_every: u64,
     /// Worker threads of the recording run; noted only, results do not depend on it.
     pub threads: usize,
+}
+
+/// A level file a recorded scene read, and its content hash.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct LevelHash {
+    /// The file as the scene names it.
+    pub file: String,
+    /// xxh3 of its bytes (with a glTF's external buffers), as 16 hex digits.
+    pub xxh3: String,
+}
+
+impl LevelHash {
+    /// The level files `scene` read, in its order (inline geometry is in the scene's source).
+    pub fn of_scene(scene: &Scene) -> Vec<LevelHash> {
+        use crate::contact::LevelSource;
+        let files = scene
+            .meshes
+            .iter()
+            .map(|m| (&m.source, m.content_hash))
+            .chain(
+                scene
+                    .heightfields
+                    .iter()
+                    .map(|h| (&h.source, h.content_hash)),
+            );
+        files
+            .filter_map(|(source, hash)| match source {
+                LevelSource::File(f) => Some(LevelHash {
+                    file: f.clone(),
+                    xxh3: format!("{hash:016x}"),
+                }),
+                LevelSource::Inline => None,
+            })
+            .collect()
+    }
 }
 
 /// The footer record: how the recorded run ended.

@@ -249,6 +249,21 @@ impl<R: Read + Seek> Recording<R> {
         let file = format!("{} (embedded)", h.scene_file);
         let mut scene = scene::parse_with(&h.scene_source, &file, &h.scene_name, terms)
             .map_err(|e| fail(format!("the embedded scene no longer parses: {e}")))?;
+        let now = super::format::LevelHash::of_scene(&scene);
+        if now != h.levels {
+            let changed = h.levels.iter().zip(&now).find(|(a, b)| a != b);
+            return Err(fail(match changed {
+                Some((then, now)) => format!(
+                    "the level file {} changed since the recording (xxh3 {} now, {} recorded): refusing to replay against another level",
+                    then.file, now.xxh3, then.xxh3
+                ),
+                None => format!(
+                    "the scene reads {} level files now, the recording {}: refusing to replay against another level",
+                    now.len(),
+                    h.levels.len()
+                ),
+            }));
+        }
         if !(1..=1_000_000_000_000).contains(&h.timestep_ns) {
             return Err(fail(format!("header: timestep of {} ns", h.timestep_ns)));
         }

@@ -138,6 +138,7 @@ impl<W: Write> Recorder<W> {
             integrator: world.integrator(),
             tolerance: (world.params().tolerance != crate::integrate::DEFAULT_TOLERANCE)
                 .then_some(world.params().tolerance),
+            levels: format::LevelHash::of_scene(scene),
             start_tick: world.tick(),
             hash_every: options.hash_every,
             keyframe_every: options.keyframe_every,

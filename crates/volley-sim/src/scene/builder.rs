@@ -9,6 +9,7 @@
 use glam::DVec3;
 
 use super::*;
+use crate::contact::{HeightGrid, LevelSource, MeshGeometry, Transform};
 
 /// The label a built scene's errors and source name as its file.
 pub const BUILT: &str = "<built in code>";
@@ -284,6 +285,52 @@ impl SceneBuilder {
         self
     }
 
+    /// A static triangle mesh, `name` in events, placed by `transform`, bouncing with
+    /// `restitution`. Its geometry is written into the scene's source (a recording embeds it),
+    /// so a big mesh belongs in a file that a scene file names instead.
+    pub fn mesh(
+        mut self,
+        name: &str,
+        geometry: MeshGeometry,
+        transform: Transform,
+        restitution: f64,
+    ) -> Self {
+        let geometry = std::sync::Arc::new(geometry);
+        self.scene.meshes.push(MeshSurface::new(
+            name,
+            LevelSource::Inline,
+            geometry.content_hash(),
+            geometry,
+            transform,
+            restitution,
+        ));
+        self
+    }
+
+    /// A heightfield of `grid` (heights in metres) with samples `cell_size` metres apart,
+    /// placed by `transform`; written into the scene's source like [`SceneBuilder::mesh`].
+    pub fn heightfield(
+        mut self,
+        name: &str,
+        grid: HeightGrid,
+        cell_size: f64,
+        transform: Transform,
+        restitution: f64,
+    ) -> Self {
+        let grid = std::sync::Arc::new(grid);
+        self.scene.heightfields.push(HeightfieldSurface::new(
+            name,
+            LevelSource::Inline,
+            grid.content_hash(),
+            grid,
+            cell_size,
+            1.0,
+            transform,
+            restitution,
+        ));
+        self
+    }
+
     /// Swept or discrete contact detection.
     pub fn detection(mut self, detection: Detection) -> Self {
         self.scene.detection = detection;
@@ -333,6 +380,9 @@ impl SceneBuilder {
             scene.name.escape_debug(),
             scene.ron_body()
         );
-        parse_with(&text, BUILT, &scene.name, &terms)
+        let files = LevelFiles {
+            dir: scene.level_dir.clone(),
+        };
+        parse_levels_in(&text, BUILT, &scene.name, &terms, &files)
     }
 }

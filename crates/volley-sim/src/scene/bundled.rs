@@ -25,13 +25,27 @@ pub const BUNDLED: &[(&str, &str)] = &[
         include_str!("../../scenes/hard/eccentric_orbit.ron"),
     ),
     (
+        "hard/edge_vertex",
+        include_str!("../../scenes/hard/edge_vertex.ron"),
+    ),
+    (
         "hard/far_from_origin",
         include_str!("../../scenes/hard/far_from_origin.ron"),
+    ),
+    (
+        "hard/grazing",
+        include_str!("../../scenes/hard/grazing.ron"),
+    ),
+    (
+        "hard/grenade_corner",
+        include_str!("../../scenes/hard/grenade_corner.ron"),
     ),
     (
         "hard/ground_impact",
         include_str!("../../scenes/hard/ground_impact.ron"),
     ),
+    ("hard/hill", include_str!("../../scenes/hard/hill.ron")),
+    ("hard/hitch", include_str!("../../scenes/hard/hitch.ron")),
     ("hard/hitch", include_str!("../../scenes/hard/hitch.ron")),
     (
         "hard/kepler_time",
@@ -46,9 +60,14 @@ pub const BUNDLED: &[(&str, &str)] = &[
         include_str!("../../scenes/hard/one_hour.ron"),
     ),
     (
+        "hard/plate_bullet",
+        include_str!("../../scenes/hard/plate_bullet.ron"),
+    ),
+    (
         "hard/quadratic_throw",
         include_str!("../../scenes/hard/quadratic_throw.ron"),
     ),
+    ("hard/slope", include_str!("../../scenes/hard/slope.ron")),
     (
         "hard/stiff_spring",
         include_str!("../../scenes/hard/stiff_spring.ron"),
@@ -60,6 +79,10 @@ pub const BUNDLED: &[(&str, &str)] = &[
     (
         "hard/strong_drag",
         include_str!("../../scenes/hard/strong_drag.ron"),
+    ),
+    (
+        "hard/tick_boundary",
+        include_str!("../../scenes/hard/tick_boundary.ron"),
     ),
     (
         "hard/tunnelling",

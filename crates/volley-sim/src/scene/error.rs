@@ -108,6 +108,9 @@ pub enum ValueProblem {
     ThrustCurve(crate::forces::ThrustCurveError),
     /// A spin on a Mach drag sized by a ballistic coefficient (the lift needs the diameter).
     SpinNeedsDiameter,
+    /// A level surface (mesh or heightfield) that cannot be used: its file and what is wrong,
+    /// or what the inline geometry lacks.
+    Level(String),
     /// A body whose mass at launch is not more than its motor's propellant.
     Propellant {
         /// The body's mass (kg).
@@ -130,6 +133,7 @@ impl std::fmt::Display for ValueProblem {
             }
             ValueProblem::NotFiniteVector(v) => write!(f, "expected finite components, got {v}"),
             ValueProblem::ZeroVector => f.write_str("expected a non-zero vector"),
+            ValueProblem::Level(m) => f.write_str(m),
             ValueProblem::Step(dt) => {
                 write!(f, "expected a step from 1 ns to 1000 s, got {dt} s")
             }

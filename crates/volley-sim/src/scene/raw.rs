@@ -100,6 +100,12 @@ impl Scene {
             ground: self.ground,
             walls: self.walls.clone(),
             targets: self.targets.clone(),
+            meshes: self.meshes.iter().map(levels::raw_mesh).collect(),
+            heightfields: self
+                .heightfields
+                .iter()
+                .map(levels::raw_heightfield)
+                .collect(),
             detection: self.detection,
             bodies: self
                 .bodies
@@ -414,6 +420,10 @@ pub(super) struct RawScene {
     pub(super) walls: Vec<Wall>,
     #[serde(default)]
     pub(super) targets: Vec<Target>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(super) meshes: Vec<levels::RawMesh>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(super) heightfields: Vec<levels::RawHeightfield>,
     #[serde(default)]
     pub(super) detection: Detection,
     #[serde(default)]

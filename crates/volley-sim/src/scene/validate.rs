@@ -84,6 +84,7 @@ pub(super) fn validate(
     text: &str,
     default_name: &str,
     terms: &ForceTerms,
+    files: &LevelFiles,
 ) -> Result<Scene, InvalidValue> {
     let timestep = timestep_from_secs("dt", raw.dt)?;
     let start_time = finite("start_time", raw.start_time)?;
@@ -154,6 +155,28 @@ pub(super) fn validate(
         finite3(&format!("targets[{i}].velocity"), t.velocity)?;
         positive(&format!("targets[{i}].radius"), t.radius)?;
     }
+    let meshes = raw
+        .meshes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| super::levels::validate_mesh(i, m, files))
+        .collect::<Result<Vec<_>, _>>()?;
+    let triangles: usize = meshes.iter().map(|m| m.geometry.triangles.len()).sum();
+    if triangles > super::levels::MAX_LEVEL_TRIANGLES {
+        return Err(invalid(
+            "meshes",
+            ValueProblem::Level(format!(
+                "{triangles} triangles in all, more than the {} a scene may have",
+                super::levels::MAX_LEVEL_TRIANGLES
+            )),
+        ));
+    }
+    let heightfields = raw
+        .heightfields
+        .iter()
+        .enumerate()
+        .map(|(i, h)| super::levels::validate_heightfield(i, h, files))
+        .collect::<Result<Vec<_>, _>>()?;
     let bodies = raw
         .bodies
         .iter()
@@ -193,6 +216,9 @@ pub(super) fn validate(
         ground,
         walls,
         targets: raw.targets,
+        meshes,
+        heightfields,
+        level_dir: files.dir.clone(),
         compare: raw.compare,
         tolerance,
         detection: raw.detection,

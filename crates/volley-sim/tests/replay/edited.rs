@@ -78,3 +78,32 @@ fn an_edit_is_checked_as_a_file_is() {
     assert_eq!(err.field.as_deref(), Some("ground.restitution"), "{err}");
     assert_eq!(bounce.ground().unwrap().restitution, 0.8);
 }
+
+/// An edit of a scene read from a file finds the level files its text names where the file
+/// found them (beside it), not beside the working folder.
+#[test]
+fn an_edit_of_a_scene_with_its_own_level_file_finds_the_file_again() {
+    let dir = std::env::temp_dir().join(format!("volley-edit-level-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let plate = crate::support::ws("assets/levels/plate.obj");
+    std::fs::copy(&plate, dir.join("my_plate.obj")).unwrap();
+    let scene_file = dir.join("range.ron");
+    std::fs::write(
+        &scene_file,
+        "Scene(dt: 0.01, integrator: Rk4, forces: [Gravity((0, 0, -9.81))],
+               meshes: [(name: \"plate\", file: \"my_plate.obj\", restitution: 0.2)],
+               bodies: [(mass: 1, position: (0, 0, 3))])",
+    )
+    .unwrap();
+    let scene = volley_sim::load_scene(&scene_file).unwrap();
+    let edited = scene
+        .edit()
+        .ground(Ground {
+            height: -5.0,
+            restitution: 0.5,
+        })
+        .build()
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(edited.meshes(), scene.meshes());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -9,6 +9,7 @@ mod replay_support;
 
 mod columns;
 mod edited;
+mod levels;
 mod replay;
 mod replay_fuzz;
 mod replay_hash_runs;

@@ -451,7 +451,10 @@ fn every_bundled_scene_is_aimed_with_its_own_integrator_and_step() {
         let result = firing::solve(&range, Mode::MinSpeed);
         match *name {
             // A wall stands between the launcher and every point beyond x = 5 m or so.
-            "bounce" | "hard/tunnelling" => {
+            // So do the level meshes of two hard cases: the grazing shots' launcher (their first
+            // bullet) is 0.3 m from the plate's face, and the tick-boundary wall spans the
+            // launcher's line of fire.
+            "bounce" | "hard/tunnelling" | "hard/grazing" | "hard/tick_boundary" => {
                 assert!(
                     matches!(result, Err(FiringError::Blocked(_))),
                     "{name}: {result:?}"
@@ -484,7 +487,7 @@ fn every_bundled_scene_is_aimed_with_its_own_integrator_and_step() {
             }
         }
     }
-    assert_eq!(solved, scene::BUNDLED.len() - 5);
+    assert_eq!(solved, scene::BUNDLED.len() - 7);
 }
 
 /// The bundled rifle zeroed at 100 m with a 1.5 in (38.1 mm) sight: the holdover table from

@@ -19,6 +19,7 @@ mod firing;
 mod hard_cases;
 mod in_code;
 mod layers;
+mod levels;
 mod parallel;
 mod rest_event;
 mod rocket;
