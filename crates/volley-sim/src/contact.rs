@@ -156,19 +156,18 @@ pub(crate) fn needs_resolution(
     if contacts.has_levels() && level_contact::may_reach_levels(contacts, r, inv_m, ctx.h, s0, s1) {
         return true;
     }
+    // A closest approach inside the step (the approach rate turns from < 0 to >= 0), or an
+    // entry into the target's reach: each test taken only as far as it can still pass.
     for t in &contacts.targets {
         let (c0, c1) = (
             t.center_at(ctx.since_start),
             t.center_at(ctx.since_start + ctx.h),
         );
-        let (g0, g1) = (
-            approach_rate(t, c0, s0, inv_m),
-            approach_rate(t, c1, s1, inv_m),
-        );
+        if approach_rate(t, c0, s0, inv_m) < 0.0 && approach_rate(t, c1, s1, inv_m) >= 0.0 {
+            return true;
+        }
         let reach2 = (t.radius + r) * (t.radius + r);
-        let entered =
-            (s0.p - c0).length_squared() > reach2 && (s1.p - c1).length_squared() <= reach2;
-        if (g0 < 0.0 && g1 >= 0.0) || entered {
+        if (s1.p - c1).length_squared() <= reach2 && (s0.p - c0).length_squared() > reach2 {
             return true;
         }
     }
@@ -423,17 +422,21 @@ fn targets_on_segment<S: Scheme>(
         };
         let tau_closest = tau_min.unwrap_or(if g1 < 0.0 { duration } else { 0.0 });
         let gap_min = gap(&closest, tau_closest);
-        let gap0 = gap(&a, 0.0);
-        if gap0 > 0.0 && gap_min <= 0.0 {
-            let end = tau_min.unwrap_or(duration);
-            let (tau_hit, _) =
-                bracketed_root(|tau| gap(&path(tau), tau), (0.0, gap0), (end, gap_min));
-            out.push(Event {
-                tick: ctx.tick,
-                time: ctx.t0 + elapsed + tau_hit,
-                body: body.id,
-                kind: EventKind::Hit { target: i as u32 },
-            });
+        // The start's gap only where the closest one touches (a body far from the target pays
+        // one distance).
+        if gap_min <= 0.0 {
+            let gap0 = gap(&a, 0.0);
+            if gap0 > 0.0 {
+                let end = tau_min.unwrap_or(duration);
+                let (tau_hit, _) =
+                    bracketed_root(|tau| gap(&path(tau), tau), (0.0, gap0), (end, gap_min));
+                out.push(Event {
+                    tick: ctx.tick,
+                    time: ctx.t0 + elapsed + tau_hit,
+                    body: body.id,
+                    kind: EventKind::Hit { target: i as u32 },
+                });
+            }
         }
         if let Some(tau) = tau_min {
             out.push(Event {
