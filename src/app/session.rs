@@ -237,7 +237,7 @@ impl Session {
             .collect();
         if self.equal_cost && scenes.len() > 1 {
             let cost = |s: &Scene| {
-                s.integrator().evals_per_step(&s.forces()) as f64 * f64::from(s.substeps())
+                s.integrator().evals_per_step(s.forces()) as f64 * f64::from(s.substeps())
             };
             let (dt0, cost0) = (scenes[0].dt(), cost(&scenes[0]));
             for s in scenes.iter_mut().skip(1) {

@@ -241,7 +241,7 @@ impl Session {
                 let seconds = now.map_or(0, |d| d.as_secs());
                 if cfg!(target_arch = "wasm32") {
                     // A page writes no files: the recording is kept and downloaded at its end.
-                    let path = default_path(Path::new(""), &self.scene.name(), seconds, 1);
+                    let path = default_path(Path::new(""), self.scene.name(), seconds, 1);
                     let path = PathBuf::from(format!(
                         "{} (a download)",
                         path.file_name().unwrap_or_default().to_string_lossy()
@@ -254,7 +254,7 @@ impl Session {
                     )?
                 } else {
                     let (path, file) =
-                        create_default(&self.recordings_dir, &self.scene.name(), seconds)?;
+                        create_default(&self.recordings_dir, self.scene.name(), seconds)?;
                     LiveRecording::start_in(Sink::File(file), &path, world, &self.scene_file)?
                 }
             }
