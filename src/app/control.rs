@@ -118,14 +118,14 @@ impl App {
             Action::Drag(grab, dx, dy) => self.scripted_drag(grab, dx, dy)?,
             Action::Click(at) => self.scripted_click(&at)?,
             Action::SaveSetup => {
-                let dir = s.recordings_dir.clone();
+                let dir = s.recordings_dir().to_path_buf();
                 self.ui.panel.saved_note = Some(match s.save_setup(&dir) {
                     Ok(path) => format!("saved the setup to {}", path.display()),
                     Err(e) => format!("could not save the setup: {e}"),
                 });
             }
             Action::SavePlots => {
-                let dir = s.recordings_dir.clone();
+                let dir = s.recordings_dir().to_path_buf();
                 self.ui.panel.saved_note = Some(match super::panel::plots::write(&dir, s) {
                     Ok((csv, png)) => format!("saved {} and {}", csv.display(), png.display()),
                     Err(e) => format!("could not save the plots: {e}"),

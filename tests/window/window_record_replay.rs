@@ -210,7 +210,7 @@ fn the_default_file_is_named_after_the_scene_and_never_overwritten() {
     assert_eq!(std::fs::read(&first).unwrap(), b"taken");
     // The session's own toggle uses the same names, in its recordings folder.
     let mut session = coverage();
-    session.recordings_dir = dir.clone();
+    session.set_recordings_dir(dir.clone());
     assert_eq!(session.toggle_recording(), Ok(()));
     let path = session.recording().unwrap().path().to_path_buf();
     assert_eq!(path.parent().unwrap(), dir.join("recordings"));
@@ -227,7 +227,7 @@ fn a_default_folder_that_cannot_be_used_is_an_error_in_the_panel_not_a_hang() {
     let dir = support::scratch_dir("default-blocked");
     std::fs::write(dir.join("recordings"), b"a file, not a folder").unwrap();
     let mut session = coverage();
-    session.recordings_dir = dir.clone();
+    session.set_recordings_dir(dir.clone());
     let started = std::time::Instant::now();
     let refused = session.toggle_recording();
     assert!(started.elapsed() < Duration::from_secs(5));

@@ -213,20 +213,32 @@ impl std::fmt::Display for FinishedRecording {
     }
 }
 
+/// The session's recordings of its first lane.
+#[derive(Debug, Default)]
+pub(super) struct Recordings {
+    /// The recording in progress.
+    pub(super) current: Option<LiveRecording>,
+    /// The recordings finished, oldest first.
+    pub(super) finished: Vec<FinishedRecording>,
+    /// Where recordings without a named file go ([`DEFAULT_DIR`] under it); empty, the
+    /// default, is the working directory.
+    pub(super) dir: PathBuf,
+}
+
 impl Session {
     /// Starts recording the first lane (in compare mode: the first integrator's world) from its
     /// current tick, to `path` or to a new file named by [`default_path`] under the session's
     /// recordings folder (the working directory unless set), made by [`create_default`]. Refused while
     /// replaying, while recording, and while the lane is stopped by a divergence.
     pub fn start_recording(&mut self, path: Option<PathBuf>) -> Result<(), String> {
-        if self.replay.is_some() {
+        if self.replay.current.is_some() {
             return Err(
                 "replaying: the replay is a recording already (Go live first to record from \
                  here)"
                     .into(),
             );
         }
-        if let Some(r) = &self.recording {
+        if let Some(r) = &self.recording.current {
             return Err(format!("already recording to {}", r.path().display()));
         }
         let lane = &self.lanes[0];
@@ -234,48 +246,43 @@ impl Session {
             return Err(format!("the lane {d}: reset before recording"));
         }
         let world = &lane.sim.world;
+        let (scene, scene_file) = (self.setup.scene.name(), &self.setup.scene_file);
         let recording = match path {
-            Some(path) => LiveRecording::start(&path, world, &self.scene_file)?,
+            Some(path) => LiveRecording::start(&path, world, scene_file)?,
             None => {
                 let now = SystemTime::now().duration_since(UNIX_EPOCH);
                 let seconds = now.map_or(0, |d| d.as_secs());
                 if cfg!(target_arch = "wasm32") {
                     // A page writes no files: the recording is kept and downloaded at its end.
-                    let path = default_path(Path::new(""), self.scene.name(), seconds, 1);
+                    let path = default_path(Path::new(""), scene, seconds, 1);
                     let path = PathBuf::from(format!(
                         "{} (a download)",
                         path.file_name().unwrap_or_default().to_string_lossy()
                     ));
-                    LiveRecording::start_in(
-                        Sink::Download(Vec::new()),
-                        &path,
-                        world,
-                        &self.scene_file,
-                    )?
+                    LiveRecording::start_in(Sink::Download(Vec::new()), &path, world, scene_file)?
                 } else {
-                    let (path, file) =
-                        create_default(&self.recordings_dir, self.scene.name(), seconds)?;
-                    LiveRecording::start_in(Sink::File(file), &path, world, &self.scene_file)?
+                    let (path, file) = create_default(&self.recording.dir, scene, seconds)?;
+                    LiveRecording::start_in(Sink::File(file), &path, world, scene_file)?
                 }
             }
         };
-        self.recording = Some(recording);
+        self.recording.current = Some(recording);
         Ok(())
     }
 
     /// Ends the recording, if one is running, at the first lane's tick (final keyframe and
     /// footer), noting why; returns it.
     pub fn stop_recording(&mut self, ended: &str) -> Option<&FinishedRecording> {
-        let recording = self.recording.take()?;
+        let recording = self.recording.current.take()?;
         let finished = recording.finish(&self.lanes[0].sim.world, ended);
-        self.recordings.push(finished);
-        self.recordings.last()
+        self.recording.finished.push(finished);
+        self.recording.finished.last()
     }
 
     /// Starts or stops recording (the panel's button and its key); returns why a recording
     /// could not start.
     pub fn toggle_recording(&mut self) -> Result<(), String> {
-        if self.recording.is_some() {
+        if self.recording.current.is_some() {
             self.stop_recording("stopped");
             Ok(())
         } else {
@@ -285,12 +292,23 @@ impl Session {
 
     /// The recording in progress.
     pub fn recording(&self) -> Option<&LiveRecording> {
-        self.recording.as_ref()
+        self.recording.current.as_ref()
     }
 
     /// The recordings this session finished, oldest first.
     pub fn recordings(&self) -> &[FinishedRecording] {
-        &self.recordings
+        &self.recording.finished
+    }
+
+    /// Where recordings without a named file go ([`DEFAULT_DIR`] under it) and setups are
+    /// saved; empty, the default, is the working directory.
+    pub fn recordings_dir(&self) -> &Path {
+        &self.recording.dir
+    }
+
+    /// Sends recordings without a named file, and saved setups, to `dir`.
+    pub fn set_recordings_dir(&mut self, dir: PathBuf) {
+        self.recording.dir = dir;
     }
 }
 
