@@ -51,7 +51,7 @@ use drill::SurfaceDrill;
 use host::Host;
 pub use input::Action;
 use panel::PanelState;
-pub use session::Session;
+pub use session::{Session, SessionError};
 pub use summary::{LaneReport, RunSummary};
 use timing::FrameTiming;
 use ui::UiState;
@@ -115,6 +115,8 @@ pub enum AppError {
     Gpu(GpuError),
     /// A file could not be written (a screenshot).
     Io(String),
+    /// The recording asked for from the start (`--record FILE`) could not start.
+    Recording(SessionError),
 }
 
 impl std::fmt::Display for AppError {
@@ -131,6 +133,7 @@ impl std::fmt::Display for AppError {
                  only a software adapter)"
             ),
             AppError::Io(why) => f.write_str(why),
+            AppError::Recording(e) => write!(f, "{e}"),
         }
     }
 }

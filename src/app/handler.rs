@@ -109,7 +109,7 @@ impl ApplicationHandler for App {
         if let Some(path) = self.options.record.take()
             && let Err(e) = self.session.start_recording(Some(path))
         {
-            self.ending = Some(Err(AppError::Io(e)));
+            self.ending = Some(Err(AppError::Recording(e)));
             event_loop.exit();
         }
     }

@@ -128,9 +128,9 @@ impl PanelState {
         self.substeps = session.scene().substeps();
     }
 
-    /// Shows `why` as the session's last refusal.
-    pub fn refuse(&mut self, session: &Session, why: String) {
-        self.refused = Some((why, session.replays_opened()));
+    /// Shows `why` (in the words its `Display` gives) as the session's last refusal.
+    pub fn refuse(&mut self, session: &Session, why: impl std::fmt::Display) {
+        self.refused = Some((why.to_string(), session.replays_opened()));
     }
 
     /// The refusal to show: the last one, unless a replay opened since.

@@ -19,16 +19,18 @@
 //! ([`crate::stability::check_world`]), recomputed when its integrator, dt, substeps or scene
 //! change.
 //!
-//! A call the session refuses returns why, in the words the panel shows (`Err(String)`); a frame
-//! returns the last refusal it met (a command refused as it was applied, a seek while playing
-//! backwards). The session keeps no text for the panel: what it keeps is data, such as the tick
-//! a new command dropped the recorded future from ([`Session::future_dropped_at`]).
+//! A call the session refuses returns why as a [`SessionError`], whose `Display` is the line the
+//! panel shows; a frame returns the last refusal it met (a command refused as it was applied, a
+//! seek while playing backwards). The session keeps no text for the panel: what it keeps is
+//! data, such as the tick a new command dropped the recorded future from
+//! ([`Session::future_dropped_at`]).
 //!
 //! [`SimLoop::push`]: crate::SimLoop::push
 //! [`Command`]: crate::Command
 
 mod clock;
 mod commands;
+mod error;
 mod lane;
 pub mod pacing;
 pub mod recording;
@@ -50,6 +52,7 @@ use crate::scene::{CompareLane, Scene};
 use crate::sim_loop::LoopError;
 use crate::world::World;
 use clock::Clocks;
+pub use error::{Change, FileStep, IoError, SessionError};
 pub use lane::{AimNote, Lane};
 use pacing::Pacing;
 use recording::{Recorded, Recordings};
@@ -135,13 +138,13 @@ impl Session {
     /// divergence. The frame's display time is not known ([`Session::frame_shown`]). Returns
     /// the last refusal the frame met: a command refused as it was applied, or a seek that
     /// failed while playing backwards.
-    pub fn frame(&mut self, delta: Duration) -> Option<String> {
+    pub fn frame(&mut self, delta: Duration) -> Option<SessionError> {
         self.frame_shown(delta, Shown::Unknown)
     }
 
     /// [`Session::frame`] for a frame shown at `shown`: the pacing log measures what it drew
     /// against the exact motion then.
-    pub fn frame_shown(&mut self, delta: Duration, shown: Shown) -> Option<String> {
+    pub fn frame_shown(&mut self, delta: Duration, shown: Shown) -> Option<SessionError> {
         let input = pacing::FrameInput {
             delta,
             shown,
@@ -157,7 +160,7 @@ impl Session {
     }
 
     /// Runs the frame's ticks (or goes back, playing backwards); returns the last refusal met.
-    fn advance(&mut self, delta: Duration) -> Option<String> {
+    fn advance(&mut self, delta: Duration) -> Option<SessionError> {
         if self.rewind.reverse.is_some() {
             self.clock.last = FrameTicks::default();
             return self.reverse_frame(delta).err();
@@ -189,7 +192,7 @@ impl Session {
                 Err(LoopError::Diverged(_)) => {}
                 Err(e) => {
                     lane.refused += 1;
-                    refused = Some(e.to_string());
+                    refused = Some(SessionError::Loop(e));
                 }
             }
             // A replay's verifier takes the loop's divergence in; the world still has it.

@@ -5,7 +5,7 @@
 use crate::clock::FrameTicks;
 use crate::sim_loop::SimLoop;
 
-use super::Session;
+use super::{Session, SessionError};
 
 /// The clock settings every lane shares (they survive a restart), and what the last frame ran.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -69,12 +69,12 @@ impl Session {
 
     /// Sets the time scale of every lane (0 to 100); a scale out of range changes nothing and
     /// says why.
-    pub fn set_time_scale(&mut self, scale: f64) -> Result<(), String> {
+    pub fn set_time_scale(&mut self, scale: f64) -> Result<(), SessionError> {
         for lane in &mut self.lanes {
             lane.sim
                 .clock
                 .set_time_scale(scale)
-                .map_err(|e| e.to_string())?;
+                .map_err(SessionError::Clock)?;
         }
         self.clock.time_scale = scale;
         Ok(())

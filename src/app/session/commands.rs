@@ -7,7 +7,7 @@ use crate::command::Command;
 use crate::scene::check_integrator;
 use crate::world::World;
 
-use super::{AimNote, Session};
+use super::{AimNote, Change, Session, SessionError};
 
 /// The shot on `arc` at target `target` for this world's integrator, step, forces and launcher,
 /// launched at its current tick (a moving target where it is now).
@@ -15,7 +15,7 @@ fn aim_lane(
     world: &World,
     target: usize,
     arc: crate::exact::Arc,
-) -> Result<crate::firing::Shot, String> {
+) -> Result<crate::firing::Shot, SessionError> {
     use crate::firing::{self, Mode, Range, ShotKind};
     let scene = world
         .scene()
@@ -24,7 +24,7 @@ fn aim_lane(
         .forces(world.forces().clone())
         .launcher(*world.launcher())
         .build()
-        .map_err(|e| e.to_string())?;
+        .map_err(SessionError::Scene)?;
     let t = world.contacts().targets[target];
     let now = crate::contact::Target {
         center: t.center_at(world.tick() as f64 * world.dt()),
@@ -32,38 +32,37 @@ fn aim_lane(
     };
     let range = Range::new(&scene, now);
     let shots =
-        firing::solve(&range, Mode::Speed(scene.launcher().speed)).map_err(|e| e.to_string())?;
+        firing::solve(&range, Mode::Speed(scene.launcher().speed)).map_err(SessionError::Firing)?;
     let kind = ShotKind::Arc(arc);
     let shot = shots
         .into_iter()
         .find(|s| s.kind == kind)
-        .ok_or_else(|| format!("no {} at this speed", kind.label()))?;
+        .ok_or(SessionError::NoShot(kind))?;
     match shot.blocked {
-        Some(b) => Err(format!("the {} {}", kind.label(), firing::blocked_text(&b))),
+        Some(b) => Err(SessionError::Blocked(kind, b)),
         None => Ok(shot),
     }
 }
 
 impl Session {
-    /// While replaying, refuses `what` (it would change the simulation), saying why.
-    pub(super) fn refuse_while_replaying(&self, what: &str) -> Result<(), String> {
+    /// While replaying, refuses `change` (it would part the run from its recording).
+    pub(super) fn refuse_while_replaying(&self, change: Change) -> Result<(), SessionError> {
         match self.replay.current {
-            Some(_) => Err(format!(
-                "replaying: {what} is off (Go live, or L, takes over from this tick)"
-            )),
+            Some(_) => Err(SessionError::Replaying(change)),
             None => Ok(()),
         }
     }
 
     /// Queues `command` for the next tick of every lane. An integrator switch is refused in
     /// compare mode (each lane is its integrator); every command is refused while replaying.
-    pub fn push(&mut self, command: Command) -> Result<(), String> {
-        self.refuse_while_replaying(&format!("`{command}`"))?;
+    pub fn push(&mut self, command: Command) -> Result<(), SessionError> {
+        self.refuse_while_replaying(Change::Command(command))?;
         if let (Command::SetIntegrator(_), true) = (command, self.is_comparing()) {
-            return Err("compare mode runs every integrator at once".into());
+            return Err(SessionError::IntegratorPerLane);
         }
         if let Command::SetIntegrator(i) = command {
-            check_integrator(i, self.lanes[0].sim.world.forces()).map_err(|e| e.to_string())?;
+            check_integrator(i, self.lanes[0].sim.world.forces())
+                .map_err(SessionError::Integrator)?;
         }
         self.take_over_future();
         for lane in &mut self.lanes {
@@ -79,10 +78,10 @@ impl Session {
     /// with the solved angles and a `fire`, so recordings and replays see them. A lane whose
     /// solve fails fires nothing; its note says why. Refused while replaying, and for a target
     /// the scene does not have.
-    pub fn aim(&mut self, arc: crate::exact::Arc, target: usize) -> Result<(), String> {
-        self.refuse_while_replaying("aim")?;
+    pub fn aim(&mut self, arc: crate::exact::Arc, target: usize) -> Result<(), SessionError> {
+        self.refuse_while_replaying(Change::Aim)?;
         if self.setup.scene.targets().get(target).is_none() {
-            return Err(format!("aim: the scene has no target {target}"));
+            return Err(SessionError::NoTargetToAim(target));
         }
         self.take_over_future();
         for lane in &mut self.lanes {
@@ -126,8 +125,8 @@ impl Session {
     /// also lifts a divergence: the stopped lanes run again and a pause the divergence caused
     /// ends. In compare mode after a divergence it restarts every lane at tick 0 instead, so
     /// the lanes stay on one tick. Refused while replaying.
-    pub fn reset(&mut self) -> Result<(), String> {
-        self.refuse_while_replaying("reset")?;
+    pub fn reset(&mut self) -> Result<(), SessionError> {
+        self.refuse_while_replaying(Change::Reset)?;
         let stopped = self.lanes.iter().any(|l| l.stopped.is_some());
         let resume = stopped && self.clock.paused_by_alarm;
         let done = if stopped && self.is_comparing() {

@@ -26,7 +26,7 @@ use crate::pacing::{DrawMode, Lead};
 use crate::render::{DrawAt, JudderMark};
 use crate::world::BodyId;
 
-use super::{Lane, Session};
+use super::{Lane, Session, SessionError};
 
 /// Frames the log keeps: 10 s at 60 Hz.
 pub const PACING_FRAMES: usize = 600;
@@ -80,13 +80,9 @@ impl Session {
 
     /// [`Session::set_policy`] by name ([`LoopPolicy::NAMES`]), with the session's refresh; an
     /// unknown name is refused.
-    pub fn set_policy_named(&mut self, name: &str) -> Result<(), String> {
-        let policy = LoopPolicy::from_name(name, self.pacing.refresh).ok_or_else(|| {
-            format!(
-                "loop policy: unknown `{name}`, expected one of {}",
-                LoopPolicy::NAMES.join(", ")
-            )
-        })?;
+    pub fn set_policy_named(&mut self, name: &str) -> Result<(), SessionError> {
+        let policy = LoopPolicy::from_name(name, self.pacing.refresh)
+            .ok_or_else(|| SessionError::UnknownPolicy(name.to_string()))?;
         self.set_policy(policy);
         Ok(())
     }

@@ -15,7 +15,7 @@ use std::io::ErrorKind;
 use std::path::{Path, PathBuf};
 use web_time::{SystemTime, UNIX_EPOCH};
 
-use super::Session;
+use super::{Change, FileStep, Session, SessionError};
 
 use crate::command::Stamped;
 use crate::render::TickHistory;
@@ -98,8 +98,12 @@ impl Sink {
 impl LiveRecording {
     /// Creates `path` (and its folder) and starts recording `world` as it is now; `scene_file`
     /// names the scene in the header.
-    pub fn start(path: &Path, world: &World, scene_file: &str) -> Result<LiveRecording, String> {
-        let fail = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
+    pub fn start(
+        path: &Path,
+        world: &World,
+        scene_file: &str,
+    ) -> Result<LiveRecording, SessionError> {
+        let fail = |e| SessionError::io(path, FileStep::Record, e);
         create_folder_of(path)?;
         let file = File::create(path).map_err(fail)?;
         LiveRecording::start_in(Sink::File(file), path, world, scene_file)
@@ -111,8 +115,8 @@ impl LiveRecording {
         path: &Path,
         world: &World,
         scene_file: &str,
-    ) -> Result<LiveRecording, String> {
-        let fail = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
+    ) -> Result<LiveRecording, SessionError> {
+        let fail = |e| SessionError::io(path, FileStep::Record, e);
         let options = RecordOptions {
             scene_file: scene_file.to_string(),
             ..RecordOptions::default()
@@ -230,20 +234,14 @@ impl Session {
     /// current tick, to `path` or to a new file named by [`default_path`] under the session's
     /// recordings folder (the working directory unless set), made by [`create_default`]. Refused while
     /// replaying, while recording, and while the lane is stopped by a divergence.
-    pub fn start_recording(&mut self, path: Option<PathBuf>) -> Result<(), String> {
-        if self.replay.current.is_some() {
-            return Err(
-                "replaying: the replay is a recording already (Go live first to record from \
-                 here)"
-                    .into(),
-            );
-        }
+    pub fn start_recording(&mut self, path: Option<PathBuf>) -> Result<(), SessionError> {
+        self.refuse_while_replaying(Change::Record)?;
         if let Some(r) = &self.recording.current {
-            return Err(format!("already recording to {}", r.path().display()));
+            return Err(SessionError::AlreadyRecording(r.path().to_path_buf()));
         }
         let lane = &self.lanes[0];
         if let Some(d) = lane.stopped {
-            return Err(format!("the lane {d}: reset before recording"));
+            return Err(SessionError::Diverged(d));
         }
         let world = &lane.sim.world;
         let (scene, scene_file) = (self.setup.scene.name(), &self.setup.scene_file);
@@ -281,7 +279,7 @@ impl Session {
 
     /// Starts or stops recording (the panel's button and its key); returns why a recording
     /// could not start.
-    pub fn toggle_recording(&mut self) -> Result<(), String> {
+    pub fn toggle_recording(&mut self) -> Result<(), SessionError> {
         if self.recording.current.is_some() {
             self.stop_recording("stopped");
             Ok(())
@@ -341,7 +339,7 @@ pub fn create_default(
     dir: &Path,
     scene: &str,
     unix_seconds: u64,
-) -> Result<(PathBuf, File), String> {
+) -> Result<(PathBuf, File), SessionError> {
     let first = default_path(dir, scene, unix_seconds, 1);
     create_folder_of(&first)?;
     for n in 1..=DEFAULT_NAME_TRIES {
@@ -349,24 +347,18 @@ pub fn create_default(
         match File::options().write(true).create_new(true).open(&path) {
             Ok(file) => return Ok((path, file)),
             Err(e) if e.kind() == ErrorKind::AlreadyExists => continue,
-            Err(e) => return Err(format!("{}: cannot write: {e}", path.display())),
+            Err(e) => return Err(SessionError::io(path, FileStep::Record, e)),
         }
     }
     let last = default_path(dir, scene, unix_seconds, DEFAULT_NAME_TRIES);
-    Err(format!(
-        "{} to {}: every name is taken; name a file to record to",
-        first.display(),
-        last.display()
-    ))
+    Err(SessionError::NamesTaken { first, last })
 }
 
 /// Creates the folder `path` goes in, if it has one and it is missing.
-fn create_folder_of(path: &Path) -> Result<(), String> {
+fn create_folder_of(path: &Path) -> Result<(), SessionError> {
     match path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        Some(dir) => std::fs::create_dir_all(dir).map_err(|e| {
-            let dir = dir.display();
-            format!("{}: cannot create its folder {dir}: {e}", path.display())
-        }),
+        Some(dir) => std::fs::create_dir_all(dir)
+            .map_err(|e| SessionError::io(path, FileStep::MakeFolder(dir.to_path_buf()), e)),
         None => Ok(()),
     }
 }

@@ -10,25 +10,24 @@ use crate::scene::{CompareLane, Scene};
 use crate::sim_loop::SimLoop;
 use crate::world::World;
 
-use super::{Lane, Session, compare_refusals};
+use super::{Change, Lane, Session, SessionError, compare_refusals};
 
 impl Session {
     /// Builds every lane afresh at tick 0. If the scene refuses every compared integrator
     /// (`exact` without a closed form), compare mode ends and one lane of the scene's integrator
     /// runs; the refusal says so. If it refuses some, the others run and the refusal names the
     /// ones left out, with the scene's reason.
-    pub(super) fn build_lanes(&mut self) -> Result<(), String> {
+    pub(super) fn build_lanes(&mut self) -> Result<(), SessionError> {
         let mut refused = Ok(());
         let mut scenes = self.setup.lane_scenes();
         if scenes.is_empty() {
-            refused = Err(format!(
-                "none of the compared integrators can run this scene; showing {}",
-                self.setup.scene.integrator()
-            ));
+            refused = Err(SessionError::NoComparedLane {
+                showing: self.setup.scene.integrator(),
+            });
             self.setup.compare.clear();
             scenes = self.setup.lane_scenes();
         } else if let Some(reasons) = compare_refusals(&self.setup.compare, &self.setup.scene) {
-            refused = Err(format!("compare mode leaves out {reasons}"));
+            refused = Err(SessionError::LanesLeftOut(reasons));
         }
         let origin = self.setup.bounds.center();
         self.lanes = scenes
@@ -50,14 +49,18 @@ impl Session {
     /// integrator; it ends a replay), else the same scene with the integrator chosen in the
     /// running session (refused while replaying). A recording ends first, noting `why`. If the
     /// scene refuses every compared integrator, compare mode ends and the refusal says so.
-    pub fn restart(&mut self, scene: Option<(Scene, PathBuf)>, why: &str) -> Result<(), String> {
+    pub fn restart(
+        &mut self,
+        scene: Option<(Scene, PathBuf)>,
+        why: &str,
+    ) -> Result<(), SessionError> {
         match scene {
             Some((scene, path)) => {
                 self.end_replay();
                 self.setup.use_scene(scene, path);
             }
             None => {
-                self.refuse_while_replaying(why)?;
+                self.refuse_while_replaying(Change::Restart(why.to_string()))?;
                 self.keep_integrator_choice();
             }
         }
@@ -78,19 +81,17 @@ impl Session {
     }
 
     /// Changes the timestep (s) and restarts at tick 0 with it.
-    pub fn set_dt(&mut self, dt: f64) -> Result<(), String> {
+    pub fn set_dt(&mut self, dt: f64) -> Result<(), SessionError> {
         self.set_step(dt, self.setup.scene.substeps())
     }
 
     /// Changes the timestep (s) and the integrator steps per tick, and restarts at tick 0 with
     /// them (nothing changes if either is refused, or while replaying).
-    pub fn set_step(&mut self, dt: f64, substeps: u32) -> Result<(), String> {
-        if self.replay.current.is_some() {
-            return Err("replaying: the step is the recording's".into());
-        }
+    pub fn set_step(&mut self, dt: f64, substeps: u32) -> Result<(), SessionError> {
+        self.refuse_while_replaying(Change::Step)?;
         let mut scene = self.setup.scene.clone();
-        scene.set_dt(dt).map_err(|e| e.to_string())?;
-        scene.set_substeps(substeps).map_err(|e| e.to_string())?;
+        scene.set_dt(dt).map_err(SessionError::Value)?;
+        scene.set_substeps(substeps).map_err(SessionError::Value)?;
         let old = &self.setup.scene;
         let why = match (
             scene.timestep() != old.timestep(),
@@ -110,7 +111,7 @@ impl Session {
     /// integrators already compared keep their own dt and substeps. Refused while replaying; if
     /// the scene refuses every integrator listed, one lane of its own runs and the refusal says
     /// so.
-    pub fn set_compare(&mut self, integrators: Vec<Integrator>) -> Result<(), String> {
+    pub fn set_compare(&mut self, integrators: Vec<Integrator>) -> Result<(), SessionError> {
         let lanes = integrators
             .into_iter()
             .map(|i| {
@@ -127,8 +128,8 @@ impl Session {
 
     /// Compare mode with these lanes (integrator, dt, substeps each) and restarts at tick 0,
     /// as [`Session::set_compare`] does.
-    pub fn set_compare_lanes(&mut self, lanes: Vec<CompareLane>) -> Result<(), String> {
-        self.refuse_while_replaying("compare mode")?;
+    pub fn set_compare_lanes(&mut self, lanes: Vec<CompareLane>) -> Result<(), SessionError> {
+        self.refuse_while_replaying(Change::CompareMode)?;
         self.keep_integrator_choice();
         self.setup.compare = lanes;
         self.stop_recording("compare mode switched: the world restarted at tick 0");
@@ -143,7 +144,7 @@ impl Session {
         i: usize,
         dt: Option<f64>,
         substeps: Option<u32>,
-    ) -> Result<(), String> {
+    ) -> Result<(), SessionError> {
         let mut lanes = self.setup.compare.clone();
         let Some(lane) = lanes.get_mut(i) else {
             return Ok(());
@@ -153,15 +154,17 @@ impl Session {
             substeps,
             ..*lane
         };
-        trial.apply(&self.setup.scene).map_err(|e| e.to_string())?;
+        trial
+            .apply(&self.setup.scene)
+            .map_err(SessionError::Scene)?;
         *lane = trial;
         self.set_compare_lanes(lanes)
     }
 
     /// Gives every compare lane the first lane's force evaluations per simulated second (or
     /// each its own step again) and restarts at tick 0. Refused while replaying.
-    pub fn set_equal_cost(&mut self, on: bool) -> Result<(), String> {
-        self.refuse_while_replaying("equal cost")?;
+    pub fn set_equal_cost(&mut self, on: bool) -> Result<(), SessionError> {
+        self.refuse_while_replaying(Change::EqualCost)?;
         self.setup.equal_cost = on;
         self.stop_recording("equal cost switched: the world restarted at tick 0");
         self.build_lanes()

@@ -11,7 +11,7 @@
 
 use std::time::Duration;
 
-use super::Session;
+use super::{Session, SessionError};
 
 /// What rewinding keeps besides each lane's timeline.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -77,13 +77,11 @@ impl Session {
     /// their pause and time scale. In a replay the recording is opened again at `tick`
     /// ([`Session::replays_opened`]). Returns why it could not (the last lane's reason, if
     /// several lanes failed; the others still moved).
-    pub fn seek(&mut self, tick: u64) -> Result<(), String> {
+    pub fn seek(&mut self, tick: u64) -> Result<(), SessionError> {
         let Some((start, end)) = self.history_range() else {
-            return Err(format!(
-                "no history to seek in: a keyframe of this world is over an eighth of the {} MiB \
-                 budget (--history-budget)",
-                self.rewind.budget >> 20
-            ));
+            return Err(SessionError::NoHistory {
+                budget: self.rewind.budget,
+            });
         };
         let tick = tick.clamp(start, end);
         if tick == self.world().tick() {
@@ -93,7 +91,7 @@ impl Session {
             let source = replay.source().clone();
             return self
                 .start_replay_from(source, Some(tick))
-                .map_err(|e| format!("seek: {e}"));
+                .map_err(SessionError::ReplaySeek);
         }
         if self.recording.current.is_some() {
             self.stop_recording(&format!("the timeline moved to tick {tick}"));
@@ -114,7 +112,7 @@ impl Session {
                 (t as u64).clamp(timeline.start(), timeline.end())
             };
             if let Err(e) = timeline.seek(&mut lane.sim.world, own) {
-                refused = Err(format!("seek: {e}"));
+                refused = Err(SessionError::Seek(e));
                 continue;
             }
             lane.sim.clear_queued();
@@ -130,7 +128,7 @@ impl Session {
     }
 
     /// Pauses and goes back one tick, as [`Session::seek`] does.
-    pub fn step_back(&mut self) -> Result<(), String> {
+    pub fn step_back(&mut self) -> Result<(), SessionError> {
         self.set_paused(true);
         self.rewind.reverse = None;
         let tick = self.world().tick();
@@ -139,7 +137,7 @@ impl Session {
 
     /// Pauses at the first tick held, as [`Session::seek`] does (nothing moves without a
     /// timeline).
-    pub fn jump_to_start(&mut self) -> Result<(), String> {
+    pub fn jump_to_start(&mut self) -> Result<(), SessionError> {
         self.set_paused(true);
         self.rewind.reverse = None;
         match self.history_range() {
@@ -150,7 +148,7 @@ impl Session {
 
     /// Goes to the last tick run (the end of the recorded future), paused, as
     /// [`Session::seek`] does (nothing moves without a timeline).
-    pub fn jump_to_end(&mut self) -> Result<(), String> {
+    pub fn jump_to_end(&mut self) -> Result<(), SessionError> {
         self.set_paused(true);
         self.rewind.reverse = None;
         match self.history_range() {
@@ -175,7 +173,7 @@ impl Session {
 
     /// A frame while playing backwards: the frame's delta, scaled, goes back in whole ticks
     /// (nothing when not playing backwards); returns why the seek failed, if it did.
-    pub(super) fn reverse_frame(&mut self, delta: Duration) -> Result<(), String> {
+    pub(super) fn reverse_frame(&mut self, delta: Duration) -> Result<(), SessionError> {
         let Some(owed) = self.rewind.reverse else {
             return Ok(());
         };

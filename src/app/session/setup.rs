@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use crate::render::SceneBounds;
 use crate::scene::{CompareLane, Scene};
 
-use super::Session;
+use super::{Change, FileStep, Session, SessionError};
 
 /// What a session's lanes are built from. A restart builds them anew from it.
 #[derive(Debug)]
@@ -107,15 +107,15 @@ impl Session {
     /// plots, the passes), without drawing: `--warm-up-ticks`, so a window opens with history.
     /// The clocks are left as they were, at the new tick. Refused while replaying; returns the
     /// last lane's error (a command refused as it was applied), if any.
-    pub fn run_ticks(&mut self, ticks: u64) -> Result<(), String> {
-        self.refuse_while_replaying("warming up")?;
+    pub fn run_ticks(&mut self, ticks: u64) -> Result<(), SessionError> {
+        self.refuse_while_replaying(Change::WarmUp)?;
         let mut refused = Ok(());
         for lane in &mut self.lanes {
             let saved = lane.sim.clock.clone();
             let to = lane.sim.world.tick() + ticks;
             let mut source = lane.sim.unpaced_source(64);
             if let Err(e) = lane.sim.run_until(to, &mut source, &mut lane.history) {
-                refused = Err(e.to_string());
+                refused = Err(SessionError::Loop(e));
             }
             lane.stopped = lane.sim.world.divergence();
             lane.sim.clock = saved;
@@ -128,11 +128,11 @@ impl Session {
     /// changes, so the scene restarts at tick 0 with it, like a dt change, keeping the
     /// launcher and integrator as they are now. Refused while replaying, and for a target the
     /// scene does not have.
-    pub fn move_target(&mut self, index: usize, center: glam::DVec3) -> Result<(), String> {
-        self.refuse_while_replaying("moving a target")?;
+    pub fn move_target(&mut self, index: usize, center: glam::DVec3) -> Result<(), SessionError> {
+        self.refuse_while_replaying(Change::MoveTarget)?;
         let mut targets = self.setup.scene.targets().to_vec();
         let Some(target) = targets.get_mut(index) else {
-            return Err(format!("no target {index}"));
+            return Err(SessionError::NoTarget(index));
         };
         target.center = center;
         self.setup.scene = self
@@ -142,14 +142,14 @@ impl Session {
             .targets(targets)
             .launcher(*self.lanes[0].sim.world.launcher())
             .build()
-            .map_err(|e| e.to_string())?;
+            .map_err(SessionError::Scene)?;
         self.restart(None, &format!("target {index} moved"))
     }
 
     /// The setup as a scene: the scene with the first lane's launcher, integrator and force
     /// terms as they are now, the current dt and substeps, and the compare lanes. Its bodies
     /// and volley are the scene's own (a setup is where a run starts, not where it got to).
-    pub fn setup(&self) -> Result<Scene, String> {
+    pub fn setup(&self) -> Result<Scene, SessionError> {
         let world = self.world();
         let mut scene = self
             .setup
@@ -158,16 +158,16 @@ impl Session {
             .launcher(*world.launcher())
             .compare(self.setup.compare.clone())
             .build()
-            .map_err(|e| e.to_string())?;
+            .map_err(SessionError::Scene)?;
         scene
             .set_integrator(world.integrator())
-            .map_err(|e| e.to_string())?;
+            .map_err(SessionError::Integrator)?;
         Ok(scene)
     }
 
     /// Writes [`Session::setup`] as `DIR/setups/SCENE-tickN.ron` and returns the path. A
     /// browser page, which writes no files, offers it as a download of that name instead.
-    pub fn save_setup(&self, dir: &Path) -> Result<PathBuf, String> {
+    pub fn save_setup(&self, dir: &Path) -> Result<PathBuf, SessionError> {
         let setup = self.setup()?;
         #[cfg(target_arch = "wasm32")]
         {
@@ -180,11 +180,12 @@ impl Session {
         #[cfg(not(target_arch = "wasm32"))]
         {
             let folder = dir.join("setups");
-            std::fs::create_dir_all(&folder).map_err(|e| format!("{}: {e}", folder.display()))?;
+            std::fs::create_dir_all(&folder)
+                .map_err(|e| SessionError::io(&folder, FileStep::Save, e))?;
             let name = setup.name().replace([' ', '/'], "_");
             let path = folder.join(format!("{name}-tick{}.ron", self.world().tick()));
             std::fs::write(&path, setup.to_ron())
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+                .map_err(|e| SessionError::io(&path, FileStep::Save, e))?;
             Ok(path)
         }
     }
