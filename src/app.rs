@@ -149,7 +149,7 @@ pub fn run(scene: Scene, path: &Path, options: WindowOptions) -> Result<RunSumma
 /// Opens the window on a prepared session (a replay: [`Session::for_replay`]) and runs until it
 /// is closed. A recording still running when it closes is ended with its footer.
 pub fn run_session(session: Session, options: WindowOptions) -> Result<RunSummary, AppError> {
-    surface::keep_freed_heap();
+    crate::platform::keep_freed_heap();
     let event_loop = EventLoop::new().map_err(|e| AppError::NoDisplay(os_reason(&e)))?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let mut app = App::new(session, options);

@@ -4,24 +4,17 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use web_time::Instant;
-
 use winit::application::ApplicationHandler;
 use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::window::{Window, WindowId};
 
 use super::display::{self, Frames};
-#[cfg(not(target_arch = "wasm32"))]
-use super::surface::WindowGpu;
-#[cfg(target_arch = "wasm32")]
-use super::web;
 use super::{App, AppError, MAX_FPS, input};
-#[cfg(target_arch = "wasm32")]
-use crate::render::GpuError;
+use crate::platform::{self, Instant};
 
 impl App {
-    /// Opens the window (once) and its device.
+    /// Opens the window (once) and starts opening its device ([`App::adopt_gpu`] takes it).
     fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<(), AppError> {
         let window = match &self.host.window {
             Some(w) => w.clone(),
@@ -30,14 +23,8 @@ impl App {
                 let attributes = Window::default_attributes()
                     .with_title(self.title())
                     .with_inner_size(winit::dpi::LogicalSize::new(w, h));
-                // In a browser the window is a canvas, added to the page's body.
-                #[cfg(target_arch = "wasm32")]
-                let attributes = {
-                    use winit::platform::web::WindowAttributesExtWebSys;
-                    attributes.with_append(true)
-                };
                 let window = event_loop
-                    .create_window(attributes)
+                    .create_window(platform::on_page(attributes))
                     .map_err(|e| AppError::NoDisplay(e.to_string()))?;
                 Arc::new(window)
             }
@@ -52,42 +39,31 @@ impl App {
         {
             self.session.set_refresh(display::believed_refresh(hz));
         }
-        #[cfg(not(target_arch = "wasm32"))]
-        {
-            let gfx = WindowGpu::new(event_loop, window.clone()).map_err(AppError::Gpu)?;
-            self.timing.stats.adapter = gfx.gpu.describe();
-            self.host.attach(window, gfx);
-        }
-        #[cfg(target_arch = "wasm32")]
-        self.host.open_in_browser(event_loop, window);
+        self.host.open(event_loop, window);
         Ok(())
     }
 
-    /// In a browser: takes the device once the browser has opened it, or ends on why it
-    /// could not.
-    #[cfg(target_arch = "wasm32")]
-    fn adopt_browser_gpu(&mut self, event_loop: &ActiveEventLoop) {
+    /// Takes the device once the GPU has opened it (at once on the desktop, later in a
+    /// browser), or ends on why it could not.
+    fn adopt_gpu(&mut self, event_loop: &ActiveEventLoop) {
         let Some(opened) = self.host.take_opened() else {
             return;
         };
         match (opened, self.host.window.clone()) {
             (Ok(gfx), Some(window)) => {
-                // A GPU error the page did not expect is shown in it, not a silent stop.
-                gfx.gpu
-                    .device
-                    .on_uncaptured_error(std::sync::Arc::new(|e: wgpu::Error| {
-                        web::show_error(&format!("GPU error: {e}"));
-                    }));
+                platform::report_gpu_errors(&gfx.gpu.device);
                 self.timing.stats.adapter = match gfx.renderer.trails_missing() {
                     Some(why) => format!("{}; {why}", gfx.gpu.describe()),
                     None => gfx.gpu.describe(),
                 };
                 self.host.attach(window, gfx);
-                web::show_adapter(&self.timing.stats.adapter);
+                let adapter = self.timing.stats.adapter.clone();
+                platform::show_on_page(|| vec![("adapter", adapter)]);
             }
             (Err(e), _) => {
-                web::show_error(&AppError::Gpu(e).to_string());
-                self.ending = Some(Err(AppError::Gpu(GpuError::Surface("see the page".into()))));
+                let e = AppError::Gpu(e);
+                platform::show_error(&e.to_string());
+                self.ending = Some(Err(e));
                 event_loop.exit();
             }
             (Ok(_), None) => {}
@@ -105,6 +81,11 @@ impl ApplicationHandler for App {
             event_loop.exit();
             return;
         }
+        // The desktop's device is open already; a page's comes later.
+        self.adopt_gpu(event_loop);
+        if self.ending.is_some() {
+            return;
+        }
         // `--record FILE`: from tick 0, once there is a window to run in.
         if let Some(path) = self.options.record.take()
             && let Err(e) = self.session.start_recording(Some(path))
@@ -120,8 +101,7 @@ impl ApplicationHandler for App {
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
-        #[cfg(target_arch = "wasm32")]
-        self.adopt_browser_gpu(event_loop);
+        self.adopt_gpu(event_loop);
         let (Some(window), Some(egui_state)) =
             (self.host.window.clone(), self.host.egui_state.as_mut())
         else {
@@ -153,11 +133,8 @@ impl ApplicationHandler for App {
     }
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
-        #[cfg(target_arch = "wasm32")]
-        {
-            self.adopt_browser_gpu(event_loop);
-            self.open_picked();
-        }
+        self.adopt_gpu(event_loop);
+        self.open_picked();
         if self.ending.is_some() {
             event_loop.exit();
             return;

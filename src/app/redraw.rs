@@ -2,7 +2,7 @@
 //! tessellated, the 3D view placed in what the panels left, the frame drawn and presented
 //! ([`super::frame`]), then screenshots, the frame limit and the surface drill.
 
-use web_time::Instant;
+use crate::platform::Instant;
 
 use winit::window::Window;
 

@@ -1,14 +1,11 @@
 //! Scenes in the window: the scene file watched for hot reload, a scene picked or reloaded
 //! (restarting the session on it), and in a browser the files picked in the page's file input.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use web_time::Instant;
-
-use super::App;
 use super::watch::SceneWatch;
-#[cfg(target_arch = "wasm32")]
-use super::web;
+use super::{App, session};
+use crate::platform::{self, Instant};
 use crate::scene::Scene;
 
 impl App {
@@ -36,14 +33,14 @@ impl App {
         }
     }
 
-    /// In a browser: opens what was picked in the page's file input, a recording (`.vrec`,
-    /// replayed and verified) or a scene or saved setup (anything else, read as a scene file).
-    #[cfg(target_arch = "wasm32")]
+    /// Opens what was picked in a page's file input (nothing on the desktop: files come from
+    /// its command line), a recording (`.vrec`, replayed and verified) or a scene or saved
+    /// setup (anything else, read as a scene file).
     pub(super) fn open_picked(&mut self) {
-        for (name, bytes) in web::take_picked() {
+        for (name, bytes) in platform::take_picked() {
             if name.ends_with(".vrec") {
-                let source = super::session::replaying::ReplaySource::Bytes {
-                    name: std::path::PathBuf::from(&name),
+                let source = session::replaying::ReplaySource::Bytes {
+                    name: PathBuf::from(&name),
                     bytes: bytes.into(),
                 };
                 if let Err(why) = self.replay_from(source) {
@@ -64,12 +61,10 @@ impl App {
         }
     }
 
-    /// Loads `path` and restarts on it; a bad file leaves the running scene and shows why.
+    /// Loads `path` (in a page, the bundled scene of that path) and restarts on it; a bad file
+    /// leaves the running scene and shows why.
     pub(super) fn load_scene(&mut self, path: &Path, reload: bool) {
-        #[cfg(not(target_arch = "wasm32"))]
-        let loaded = crate::scene::load(path);
-        #[cfg(target_arch = "wasm32")]
-        let loaded = web::load(path);
+        let loaded = platform::load_scene(path);
         self.use_scene(loaded, path, reload);
     }
 

@@ -13,11 +13,11 @@
 use std::fs::File;
 use std::io::ErrorKind;
 use std::path::{Path, PathBuf};
-use web_time::{SystemTime, UNIX_EPOCH};
 
 use super::{Change, FileStep, Session, SessionError};
 
 use crate::command::Stamped;
+use crate::platform::{self, SystemTime, UNIX_EPOCH};
 use crate::render::TickHistory;
 use crate::replay::{RecordOptions, RecordStats, Recorder};
 use crate::sim_loop::{ObserverError, TickObserver};
@@ -81,15 +81,10 @@ impl Sink {
     fn deliver(self, path: &Path) {
         match self {
             Sink::File(_) => {}
-            #[cfg(target_arch = "wasm32")]
             Sink::Download(bytes) => {
                 let name = path.to_string_lossy();
                 let name = name.strip_suffix(" (a download)").unwrap_or(&name);
-                crate::app::web::download(&name, &bytes, "application/octet-stream");
-            }
-            #[cfg(not(target_arch = "wasm32"))]
-            Sink::Download(_) => {
-                let _ = path;
+                platform::offer_download(name, &bytes, "application/octet-stream");
             }
         }
     }
@@ -250,7 +245,7 @@ impl Session {
             None => {
                 let now = SystemTime::now().duration_since(UNIX_EPOCH);
                 let seconds = now.map_or(0, |d| d.as_secs());
-                if cfg!(target_arch = "wasm32") {
+                if !platform::WRITES_FILES {
                     // A page writes no files: the recording is kept and downloaded at its end.
                     let path = default_path(Path::new(""), scene, seconds, 1);
                     let path = PathBuf::from(format!(

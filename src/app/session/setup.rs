@@ -166,27 +166,14 @@ impl Session {
     }
 
     /// Writes [`Session::setup`] as `DIR/setups/SCENE-tickN.ron` and returns the path. A
-    /// browser page, which writes no files, offers it as a download of that name instead.
+    /// browser page, which writes no files, offers it as a download of that name instead
+    /// ([`crate::platform::save_file`]).
     pub fn save_setup(&self, dir: &Path) -> Result<PathBuf, SessionError> {
         let setup = self.setup()?;
-        #[cfg(target_arch = "wasm32")]
-        {
-            let _ = dir;
-            let name = setup.name.replace([' ', '/'], "_");
-            let file = format!("{name}-tick{}.ron", self.world().tick());
-            crate::app::web::download(&file, setup.to_ron().as_bytes(), "text/plain");
-            Ok(PathBuf::from(format!("{file} (downloaded)")))
-        }
-        #[cfg(not(target_arch = "wasm32"))]
-        {
-            let folder = dir.join("setups");
-            std::fs::create_dir_all(&folder)
-                .map_err(|e| SessionError::io(&folder, FileStep::Save, e))?;
-            let name = setup.name().replace([' ', '/'], "_");
-            let path = folder.join(format!("{name}-tick{}.ron", self.world().tick()));
-            std::fs::write(&path, setup.to_ron())
-                .map_err(|e| SessionError::io(&path, FileStep::Save, e))?;
-            Ok(path)
-        }
+        let name = setup.name().replace([' ', '/'], "_");
+        let file = format!("{name}-tick{}.ron", self.world().tick());
+        let bytes = setup.to_ron();
+        crate::platform::save_file(&dir.join("setups"), &file, bytes.as_bytes(), "text/plain")
+            .map_err(|(path, e)| SessionError::io(path, FileStep::Save, e))
     }
 }
