@@ -194,7 +194,13 @@ pub(crate) fn resolve<S: Scheme>(
 ) -> (BodyState, DVec3, u64) {
     match ctx.contacts.detection {
         Detection::Swept => {
-            let (s, c, n) = resolve_swept(scheme, ctx, body, (s0, c0), (s1, c1), out);
+            // Level surfaces' work compiled in only for scenes with levels: a scene of planes
+            // steps as it did before levels existed.
+            let (s, c, n) = if ctx.contacts.has_levels() {
+                resolve_swept::<S, true>(scheme, ctx, body, (s0, c0), (s1, c1), out)
+            } else {
+                resolve_swept::<S, false>(scheme, ctx, body, (s0, c0), (s1, c1), out)
+            };
             if n > MAX_CONTACT_EVALS {
                 return (SPENT, c, n);
             }
@@ -207,7 +213,7 @@ pub(crate) fn resolve<S: Scheme>(
     }
 }
 
-fn resolve_swept<S: Scheme>(
+fn resolve_swept<S: Scheme, const LEVELS: bool>(
     scheme: &S,
     ctx: &StepContext,
     body: Particle,
@@ -228,7 +234,7 @@ fn resolve_swept<S: Scheme>(
         (s, c)
     };
     // The level triangles near the step, gathered once: every query of the step tests these.
-    let cands = ctx.contacts.has_levels().then(|| {
+    let cands = LEVELS.then(|| {
         let r = level_contact::level_radius(body.r);
         let grow = 2.0 * r + roots::margin(&s, &end, body.w.inv, ctx.h);
         Candidates::gather(ctx.contacts, Aabb::of_segment(s.p, end.p, grow))
@@ -337,7 +343,7 @@ fn resolve_swept<S: Scheme>(
                     });
                 }
                 let at = (ctx.t0 + elapsed, remaining);
-                let (s, c) = settle(
+                let (s, c) = settle::<S, LEVELS>(
                     scheme,
                     ctx,
                     body,
@@ -353,7 +359,7 @@ fn resolve_swept<S: Scheme>(
         } else if -mv_n * body.w.inv <= ctx.rest_speed && tau == 0.0 {
             // Resting contact: slide along the surface for the rest of the step.
             let at = (ctx.t0 + elapsed, remaining);
-            let (s, c) = settle(
+            let (s, c) = settle::<S, LEVELS>(
                 scheme,
                 ctx,
                 body,
@@ -370,7 +376,7 @@ fn resolve_swept<S: Scheme>(
     }
     // Still bouncing after the cap (a body jittering in a corner): keep it outside every surface.
     let (mut s, mut c) = (end, end_c);
-    clamp_outside(ctx, body, &mut s, cands.as_ref());
+    clamp_outside::<LEVELS>(ctx, body, &mut s, cands.as_ref());
     if S::CARRIES_FORCE {
         c = scheme.start_carry(s, body.w, ctx.t0 + ctx.h);
         evals += 1; // the carried force: one evaluation
@@ -382,6 +388,7 @@ fn resolve_swept<S: Scheme>(
 /// `b`. The distance to a target's centre along the segment falls while `(p - c) . V < 0`, so
 /// its minimum is at the sign change of that rate (if inside the segment) or at an end.
 #[allow(clippy::too_many_arguments)]
+#[inline]
 fn targets_on_segment<S: Scheme>(
     scheme: &S,
     ctx: &StepContext,

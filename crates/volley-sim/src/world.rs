@@ -176,6 +176,36 @@ pub(crate) struct BatchBackup {
     pub(crate) carry: Vec3s,
 }
 
+/// What a tick asks of the active force terms, worked out once whenever they change (at build,
+/// a force command, a reset, a restore) instead of every tick: the fast-path model, whether a
+/// term reads the launch, may add energy, or is a motor. Never state: it follows from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ForceFacts {
+    /// The terms as a [`crate::forces::ConstantField`], if gravity and a constant force are all.
+    pub(crate) constant: Option<crate::forces::ConstantField>,
+    /// [`Forces::reads_launch`].
+    pub(crate) reads_launch: bool,
+    /// [`Forces::adds_energy`].
+    pub(crate) adds_energy: bool,
+    /// Whether a motor is declared.
+    pub(crate) motor: bool,
+    /// |g| (m/s^2), 0 without gravity: the contact stage's rest speed is `|g| h`.
+    pub(crate) gravity: f64,
+}
+
+impl ForceFacts {
+    /// The facts of `forces`.
+    pub(crate) fn of(forces: &Forces) -> ForceFacts {
+        ForceFacts {
+            constant: forces.constant_field(),
+            reads_launch: forces.reads_launch(),
+            adds_energy: forces.adds_energy(),
+            motor: forces.thrust.is_some(),
+            gravity: forces.gravity.map_or(0.0, DVec3::length),
+        }
+    }
+}
+
 /// One run: its [`State`], the [`Params`] it advances by, and the scratch buffers of the step.
 #[derive(Clone, Debug)]
 pub struct World {
@@ -190,6 +220,8 @@ pub struct World {
     pub(crate) diverged: Option<Divergence>,
     /// Worker threads (a runtime knob: the bits do not depend on it).
     pub(crate) threads: usize,
+    /// The active terms' facts ([`ForceFacts`]), kept with them.
+    pub(crate) facts: ForceFacts,
 }
 
 impl World {
@@ -223,6 +255,7 @@ impl World {
             carry_valid: false,
             diverged: None,
             threads: 1,
+            facts: ForceFacts::of(&scene.forces),
         };
         world.populate();
         world

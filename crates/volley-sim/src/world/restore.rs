@@ -103,6 +103,7 @@ impl World {
             return Err(RestoreError::Carry);
         }
         self.state.assign_from(s, true);
+        self.facts = super::ForceFacts::of(&self.state.forces);
         self.carry_valid = !s.carry.is_empty();
         self.scratch.events.clear();
         self.diverged = None;
