@@ -1,0 +1,3 @@
+//! The sync test: clean runs pass, injected nondeterminism is caught and placed.
+
+mod basics;
