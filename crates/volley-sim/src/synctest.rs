@@ -372,6 +372,13 @@ impl SyncTest {
             newest.stages.clear();
             newest.stages.extend_from_slice(&log);
             self.log = log;
+            // A stage hook may change what only commands change: keep the first run's own
+            // fixed part, so a report compares against what the first run really had.
+            if !ring::same_static(&self.world, self.epochs.get(self.epoch)) {
+                self.epochs.store(self.next_epoch, &self.world);
+                self.epoch = self.next_epoch;
+                self.next_epoch += 1;
+            }
         } else {
             // A divergence stays in the world (`World::divergence`); the check compares it.
             let _ = self.world.step();

@@ -186,7 +186,9 @@ impl Rerun<'_> {
             if self.staged {
                 self.log.clear();
                 let hook = self.hook.as_deref_mut();
-                run_staged(self.world, commands, self.buffers, hook, self.log).err()?;
+                if let Err(e) = run_staged(self.world, commands, self.buffers, hook, self.log) {
+                    return Some(e);
+                }
                 if first_difference(expected, self.log).is_some() {
                     return Some(Early::Stage {
                         tick: j + 1,
@@ -236,12 +238,13 @@ pub(super) fn locate(
     let rerun_end = sync.world.snapshot();
     let mut m = SyncMismatch {
         tick: end,
+        checked: end,
         restored_from: from,
         check_distance: sync.distance as u32,
         substeps: sync.world.substeps(),
         stage: None,
         stages: Vec::new(),
-        located: FoundBy::NotReproduced,
+        found_by: FoundBy::NotReproduced,
         fields: Vec::new(),
         note: None,
     };
@@ -254,7 +257,7 @@ pub(super) fn locate(
     match early {
         Some(Early::Stage { tick, first, rerun }) => {
             m.tick = tick;
-            m.located = FoundBy::StageHashes;
+            m.found_by = FoundBy::StageHashes;
             set_stages(&mut m, &first, &rerun);
             let held = tick >= sync.frames[0].tick;
             if held {
@@ -269,7 +272,7 @@ pub(super) fn locate(
         }) => {
             m.tick = tick;
             m.stage = Some(StageHashes::unhashed(Stage::Commands));
-            m.located = FoundBy::ReRun;
+            m.found_by = FoundBy::ReRun;
             m.note = Some(format!(
                 "the re-run could not apply `{tick}: {command}`, which the first run applied: \
                  {error}"
@@ -278,7 +281,7 @@ pub(super) fn locate(
         }
         Some(Early::Diverged { tick, divergence }) => {
             m.tick = tick;
-            m.located = FoundBy::ReRun;
+            m.found_by = FoundBy::ReRun;
             m.note = Some(format!(
                 "the re-run {divergence}; the first run went on past tick {tick}"
             ));
@@ -352,7 +355,7 @@ fn search(sync: &mut SyncTest, end: u64, m: &mut SyncMismatch) {
     if restore_error.is_some() || !fields.is_empty() {
         m.tick = first_held;
         m.stage = Some(StageHashes::unhashed(Stage::Restore));
-        m.located = FoundBy::ReExecuted;
+        m.found_by = FoundBy::ReExecuted;
         m.fields = fields;
         m.note = restore_error.map(|e| format!("the restore refused the saved state: {e}"));
         return;
@@ -366,7 +369,7 @@ fn search(sync: &mut SyncTest, end: u64, m: &mut SyncMismatch) {
         let (b_end, b_log) = run_once(sync, &template, &before, &commands, Side::Rerun);
         if first_difference(&a_log, &b_log).is_some() {
             m.tick = j + 1;
-            m.located = FoundBy::ReExecuted;
+            m.found_by = FoundBy::ReExecuted;
             set_stages(m, &a_log, &b_log);
             m.fields = diff(&after, &b_end);
             if m.fields.is_empty() {
@@ -377,7 +380,7 @@ fn search(sync: &mut SyncTest, end: u64, m: &mut SyncMismatch) {
         let fields = diff(&after, &a_end);
         if !fields.is_empty() {
             m.tick = j + 1;
-            m.located = FoundBy::FirstRunAlone;
+            m.found_by = FoundBy::FirstRunAlone;
             set_stages(m, &a_log, &b_log);
             m.stage = None;
             m.fields = fields;

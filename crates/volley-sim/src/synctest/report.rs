@@ -55,6 +55,8 @@ pub enum FoundBy {
 pub struct SyncMismatch {
     /// The first tick whose state differs, as far as the checks could see.
     pub tick: u64,
+    /// The first run's tick the failing check checked (the sync test stopped there).
+    pub checked: u64,
     /// The tick the failing check restored and re-ran from.
     pub restored_from: u64,
     /// The sync test's check distance.
@@ -66,7 +68,7 @@ pub struct SyncMismatch {
     /// Every stage of the tick's step that both runs hashed, in order.
     pub stages: Vec<StageHashes>,
     /// How the stage was found.
-    pub located: FoundBy,
+    pub found_by: FoundBy,
     /// Every field that differs at `tick`: `recorded` is the first run's value (the saved
     /// state's, for the restore stage), `replayed` the re-run's (the restored one's).
     pub fields: Vec<FieldDiff>,
@@ -149,9 +151,12 @@ impl SyncMismatch {
     pub fn report(&self, limit: Option<usize>) -> String {
         let t = self.tick;
         let mut out = format!(
-            "sync test mismatch at tick {t}: the check that restored tick {} and re-ran to \
-             check distance {} parts from the first run\n",
-            self.restored_from, self.check_distance
+            "sync test mismatch at tick {t}: the check of tick {}, which restored tick {} and \
+             re-ran {} ticks (check distance {}), parts from the first run\n",
+            self.checked,
+            self.restored_from,
+            self.checked - self.restored_from,
+            self.check_distance
         );
         if let Some(note) = &self.note {
             out += &format!("{note}\n");
@@ -168,7 +173,7 @@ impl SyncMismatch {
             (Some(_), Some(name)) => out += &format!("first differing stage: {name}\n"),
             _ => out += "first differing stage: not found\n",
         }
-        out += match self.located {
+        out += match self.found_by {
             FoundBy::StageHashes => {
                 "found by: the stage hashes of the first run and of the re-run, as they ran\n"
             }
