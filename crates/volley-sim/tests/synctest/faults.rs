@@ -116,7 +116,7 @@ fn acting(t: f64) -> bool {
     t >= FROM as f64 * H - 1e-9
 }
 
-/// Class 1: A game's force term with hidden mutable state: a counter bumped by every evaluation.
+/// Class 1: a game's force term with hidden mutable state: a counter bumped by every evaluation.
 #[derive(Debug, Default)]
 struct Counter(AtomicU64);
 
@@ -146,7 +146,7 @@ fn a_term_with_hidden_mutable_state_is_caught_in_integrate() {
     assert_fields(&m, &["p.z", "mV.z"]);
 }
 
-/// Class 2: A wall-clock read inside a term.
+/// Class 2: a wall-clock read inside a term.
 #[derive(Debug)]
 struct WallClock(std::time::Instant);
 
@@ -175,7 +175,7 @@ fn a_wall_clock_read_is_caught_in_integrate() {
     assert_fields(&m, &["p.z", "mV.z"]);
 }
 
-/// Class 3: Random numbers drawn from a generator of the term's own, outside the world's.
+/// Class 3: random numbers drawn from a generator of the term's own, outside the world's.
 #[derive(Debug)]
 struct OwnRng(AtomicU64);
 
@@ -211,7 +211,7 @@ fn random_numbers_outside_the_worlds_generator_are_caught_in_integrate() {
     assert_fields(&m, &["p.z", "mV.z"]);
 }
 
-/// Class 4: Hash-map iteration order: a sum over a map built per evaluation (each `HashMap::new`
+/// Class 4: hash-map iteration order: a sum over a map built per evaluation (each `HashMap::new`
 /// draws new keys, so the order differs), of values whose sum depends on the order.
 #[derive(Debug)]
 struct MapOrder;
@@ -259,7 +259,7 @@ impl ForceTerm for Quiet {
     }
 }
 
-/// Class 5: A restore that drops a column: the game's restore puts everything back but the
+/// Class 5: a restore that drops a column: the game's restore puts everything back but the
 /// momenta's z, which keeps the world's value from before the restore.
 #[test]
 fn a_restore_that_drops_a_column_is_caught_in_restore_naming_the_column() {
@@ -293,7 +293,7 @@ fn chunked_sum(values: &[f64], threads: usize) -> f64 {
     values.chunks(size).map(|c| c.iter().sum::<f64>()).sum()
 }
 
-/// Class 6: A parallel sum whose order depends on the thread count.
+/// Class 6: a parallel sum whose order depends on the thread count.
 #[derive(Debug)]
 struct ParallelSum(Vec<f64>);
 
@@ -341,7 +341,7 @@ fn a_parallel_sum_that_follows_the_thread_count_is_caught_in_integrate() {
     assert_fields(&m, &["p.z", "mV.z"]);
 }
 
-/// Class 7: A fused multiply-add path: the term's multi-threaded path fuses `a * b + c`, its
+/// Class 7: a fused multiply-add path: the term's multi-threaded path fuses `a * b + c`, its
 /// one-thread path does not. With these values the product rounds to 1 unfused (the sum is
 /// 0) while the fused result keeps -2^-60.
 #[derive(Debug)]
@@ -382,7 +382,7 @@ fn a_fused_multiply_add_path_is_caught_in_integrate() {
     assert_fields(&m, &["p.z", "mV.z"]);
 }
 
-/// Class 8: A command applied mid-tick, by the first run only (live input applied between the
+/// Class 8: a command applied mid-tick, by the first run only (live input applied between the
 /// integrate and contacts stages; a re-run applies the recorded commands at the boundary).
 #[test]
 fn a_command_applied_mid_tick_is_caught_after_the_stage_it_followed() {
@@ -411,7 +411,7 @@ fn a_command_applied_mid_tick_is_caught_after_the_stage_it_followed() {
     );
 }
 
-/// Class 9: A scratch buffer reused across ticks without being cleared: each evaluation adds into
+/// Class 9: a scratch buffer reused across ticks without being cleared: each evaluation adds into
 /// what the last one left.
 #[derive(Debug, Default)]
 struct StaleScratch(Mutex<Vec<f64>>);
@@ -444,7 +444,7 @@ fn a_stale_scratch_buffer_is_caught_in_integrate() {
     assert_fields(&m, &["p.z", "mV.z"]);
 }
 
-/// Class 10: State outside the world that the game changes between frames (a setting read by a
+/// Class 10: state outside the world that the game changes between frames (a setting read by a
 /// term, changed directly instead of through a command): the first run saw the old value,
 /// every later run sees the new one.
 static WIND: AtomicU64 = AtomicU64::new(0);
@@ -510,7 +510,7 @@ fn state_outside_the_world_without_stage_hashes_is_named_a_first_run_alone() {
     assert!(m.report(None).contains("--stage-hashes"));
 }
 
-/// Class 11: Hidden state reached only by the contact solver: a counter bumped by evaluations off
+/// Class 11: hidden state reached only by the contact solver: a counter bumped by evaluations off
 /// the tick grid, which only the search for a bounce's time makes (semi-implicit Euler
 /// evaluates at the step's start alone).
 #[derive(Debug, Default)]
@@ -558,7 +558,7 @@ fn hidden_state_reached_by_the_contact_search_alone_is_caught_in_contacts() {
     assert_eq!(integrate.first, integrate.rerun);
 }
 
-/// Class 12: A command the first run applied outside the recorded commands (input that bypasses
+/// Class 12: a command the first run applied outside the recorded commands (input that bypasses
 /// the session): a body fired by the first run alone.
 #[test]
 fn an_unrecorded_command_is_caught_in_commands() {
