@@ -150,12 +150,13 @@ impl SyncMismatch {
     /// The report as lines of text, listing at most `limit` fields (all for `None`).
     pub fn report(&self, limit: Option<usize>) -> String {
         let t = self.tick;
+        let ran = self.checked - self.restored_from;
         let mut out = format!(
             "sync test mismatch at tick {t}: the check of tick {}, which restored tick {} and \
-             re-ran {} ticks (check distance {}), parts from the first run\n",
+             re-ran {ran} tick{} (check distance {}), parts from the first run\n",
             self.checked,
             self.restored_from,
-            self.checked - self.restored_from,
+            if ran == 1 { "" } else { "s" },
             self.check_distance
         );
         if let Some(note) = &self.note {
