@@ -16,7 +16,8 @@
 //!   multiplication, never a running float sum.
 //! - Determinism: no hash-map iteration in the simulation, no wall clock inside a tick, no
 //!   `mul_add`, transcendental functions from the `libm` crate, the only random generator lives
-//!   in the [`World`], and parallel work is combined in a fixed order.
+//!   in the [`World`], and parallel work is combined in a fixed order. A game's own code keeps
+//!   them too, or its rollback parts from itself: the [`SyncTest`] checks that.
 //!
 //! ## What a game uses
 //! Everything a game names is at this root, one path per type, and the root is closed: every
