@@ -11,17 +11,18 @@
 pub use volley_lab::{pacing, stability, study, table};
 pub use volley_sim::internals::{
     atmosphere, body, clock, command, contact, drag, draw, exact, firing, forces, hash, integrate,
-    replay, rng, scene, sim_loop, simd, step, timeline, world,
+    replay, rng, scene, sim_loop, simd, step, synctest, timeline, world,
 };
 pub use volley_sim::{
     AimMode, AimRange, Atmosphere, Bodies, BodyId, BodySpec, BodyState, ClockError, Command,
     CommandError, CommandParseError, DEFAULT_DRAW, DEFAULT_POLICY, Detection, Divergence,
     DragTable, Draw, DrawMode, Event, EventKind, FiringError, FirstDivergence, FixedClock,
     ForceKind, Forces, FrameSource, FrameTicks, Ground, Guard, Integrator, Launcher, LoopError,
-    LoopPolicy, MachDrag, ObserverError, PointMass, RealClock, RecordOptions, Recorder, Recording,
-    Replay, Scene, SceneBuilder, SceneError, ScriptError, Shot, SimLoop, Spring, Stamped, Surface,
-    Target, TickObserver, Timeline, VirtualClock, Volley, Wall, World, bundled_scene, load_scene,
-    parse_scene, parse_scene_with, parse_script, solve_aim, state_hash,
+    LoopPolicy, MAX_CHECK_DISTANCE, MachDrag, ObserverError, PointMass, RealClock, RecordOptions,
+    Recorder, Recording, Replay, Scene, SceneBuilder, SceneError, ScriptError, Shot, SimLoop,
+    Spring, Stamped, Surface, SyncError, SyncMismatch, SyncTest, Target, TickObserver, TickStage,
+    Timeline, VirtualClock, Volley, Wall, World, bundled_scene, load_scene, parse_scene,
+    parse_scene_with, parse_script, solve_aim, state_hash,
 };
 
 /// The one line for a scene argument that names neither a file nor a bundled scene: the

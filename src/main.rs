@@ -1,6 +1,6 @@
 //! The `volley` command line: parses arguments, calls the library, prints, picks the exit code.
 //!
-//! Exit codes: 0 success; 1 a replay failed verification; 2 bad input (arguments, scene, command
+//! Exit codes: 0 success; 1 a replay failed verification or a sync test found a mismatch; 2 bad input (arguments, scene, command
 //! script, recording); 3 the simulation diverged; 4 an environment failure (no GPU adapter, no
 //! display, an I/O error).
 //!
@@ -39,6 +39,8 @@ enum Cmd {
     Record(cli::record::RecordArgs),
     /// Play a recording back in the window (a table with --headless), or verify it (--verify).
     Replay(cli::replay::ReplayArgs),
+    /// Run a scene or recording re-running every tick from K ticks back; name where runs part.
+    Synctest(cli::synctest::SyncTestArgs),
     /// Open the sandbox window (what `volley` alone does, on the seed scene).
     Window(cli::window::WindowArgs),
 }
@@ -56,6 +58,7 @@ fn main() -> ExitCode {
         Some(Cmd::Pacing(args)) => cli::pacing::run(&args),
         Some(Cmd::Record(args)) => cli::record::run(&args),
         Some(Cmd::Replay(args)) => cli::replay::run(&args),
+        Some(Cmd::Synctest(args)) => cli::synctest::run(&args),
         Some(Cmd::Window(args)) => cli::window::run(&args),
         None => cli::window::default_run(),
     };

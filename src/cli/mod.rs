@@ -11,6 +11,7 @@ pub mod record;
 pub mod replay;
 pub mod scenes;
 pub mod study;
+pub mod synctest;
 pub mod window;
 
 use std::path::{Path, PathBuf};
@@ -26,8 +27,8 @@ pub struct Failure {
     pub message: String,
 }
 
-/// Exit code for a replay that failed verification, or a run that ended on another hash than
-/// `--expect-hash`.
+/// Exit code for a replay that failed verification, a run that ended on another hash than
+/// `--expect-hash`, or a sync test whose re-run parted from the first run.
 pub const EXIT_MISMATCH: u8 = 1;
 /// Exit code for bad input: arguments, scene, command script, recording.
 pub const EXIT_INPUT: u8 = 2;

@@ -20,3 +20,4 @@ mod pacing;
 mod replay_cli;
 mod simd;
 mod study;
+mod synctest;

@@ -29,8 +29,8 @@ fn help(sub: &str) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
-const SUBCOMMANDS: [&str; 8] = [
-    "headless", "aim", "scenes", "study", "pacing", "record", "replay", "window",
+const SUBCOMMANDS: [&str; 9] = [
+    "headless", "aim", "scenes", "study", "pacing", "record", "replay", "synctest", "window",
 ];
 
 #[test]

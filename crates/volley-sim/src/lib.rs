@@ -16,7 +16,8 @@
 //!   multiplication, never a running float sum.
 //! - Determinism: no hash-map iteration in the simulation, no wall clock inside a tick, no
 //!   `mul_add`, transcendental functions from the `libm` crate, the only random generator lives
-//!   in the [`World`], and parallel work is combined in a fixed order.
+//!   in the [`World`], and parallel work is combined in a fixed order. A game's own code keeps
+//!   them too, or its rollback parts from itself: the [`SyncTest`] checks that.
 //!
 //! ## What a game uses
 //! Everything a game names is at this root, one path per type, and the root is closed: every
@@ -41,7 +42,9 @@
 //! - **Input**: [`Command`]s, applied at tick boundaries, and command scripts
 //!   ([`parse_script`]).
 //! - **Checking a run**: [`state_hash`], recordings ([`Recorder`], [`Recording`]) and their
-//!   [`Replay`], the rewinding [`Timeline`].
+//!   [`Replay`], the rewinding [`Timeline`], and determinism under rollback: the [`SyncTest`]
+//!   (every tick re-run from K ticks back; a [`SyncError`] names where runs part, a
+//!   [`SyncMismatch`] with its [`TickStage`], [`StageHashes`] and [`FieldDiff`]s).
 //! - **Aim**: [`solve_aim`], launches that hit in the simulation as stepped, and a rifle's
 //!   zero with its [`holdover`] table.
 //!
@@ -122,6 +125,11 @@ mod draw;
 mod firing;
 mod replay;
 mod timeline;
+
+// 7. Checking a game's determinism under rollback: the sync test re-runs every tick from K
+//    ticks back and names the tick, body, field and stage where the runs part (on the loop's
+//    world, the step's stages and the replay's field diff).
+mod synctest;
 
 /// Volley's own internals, for its window, CLI, lab, tests, benches and fuzz targets (with the
 /// `internals` feature only): every module behind the names above, with the per-body columns,
@@ -217,6 +225,10 @@ pub mod internals {
         //! Re-exported from the private module of that name.
         pub use crate::timeline::*;
     }
+    pub mod synctest {
+        //! Re-exported from the private module of that name.
+        pub use crate::synctest::*;
+    }
 }
 
 // The game-facing surface (the crate doc lists it by purpose). Closed: every type a root item's
@@ -262,6 +274,10 @@ pub use scene::{
     load_with as load_scene_with, parse as parse_scene, parse_with as parse_scene_with,
 };
 pub use sim_loop::{LoopError, ObserverError, SimLoop, TickObserver};
+pub use synctest::{
+    FoundBy as SyncFoundBy, MAX_CHECK_DISTANCE, StageHashes, SyncError, SyncMismatch, SyncTest,
+    SyncTestError, TickStage,
+};
 pub use timeline::{SeekError, Timeline};
 pub use world::{
     Divergence, DivergenceCause, MAX_COUNT, Params as WorldParams, RestoreError, State, World,

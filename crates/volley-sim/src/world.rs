@@ -93,7 +93,7 @@ impl State {
     /// Makes this state a copy of `src`, reusing its allocations (none once they fit): every
     /// field and column, `1 / mass` recomputed as at spawn, and the carried force only if
     /// `carry` (otherwise it is left empty).
-    fn assign_from(&mut self, src: &State, carry: bool) {
+    pub(crate) fn assign_from(&mut self, src: &State, carry: bool) {
         (self.tick, self.next_id, self.rng) = (src.tick, src.next_id, src.rng);
         (self.integrator, self.forces) = (src.integrator, src.forces.clone());
         (self.launcher, self.force_evals) = (src.launcher, src.force_evals);

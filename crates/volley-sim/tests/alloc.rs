@@ -1,5 +1,5 @@
 //! No allocation per tick after warm-up: a counting global allocator watches `SimLoop::frame`,
-//! with and without a recorder.
+//! with and without a recorder, and a sync test's ticks (`SyncTest::advance`).
 //!
 //! The allocator counts only on threads that opted in (a thread-local pointer to a per-test
 //! counter), so the test harness's own threads and other tests running at the same time are not
@@ -210,4 +210,50 @@ fn batched_ticks_allocate_nothing_after_the_first_batch() {
         counter.load(Ordering::SeqCst) - before
     });
     assert_eq!(allocations, 0);
+}
+
+/// Allocations of a sync test at K = 7 over the measured ticks after the warm-up (which fills
+/// its ring of frames), on one thread; with `events`, the measured ticks must have some.
+fn sync_test_allocations(scene: &Scene, events_needed: bool) -> u64 {
+    let (counter, pool) = counting_pool();
+    pool.install(|| {
+        let mut sync = volley_sim::SyncTest::new(World::new(scene), 7).expect("7 is in range");
+        for _ in 0..WARM_UP_TICKS {
+            sync.advance(&[]).expect("the test scenes pass");
+        }
+        let before = counter.load(Ordering::SeqCst);
+        let mut events = 0;
+        for _ in 0..MEASURED_TICKS {
+            sync.advance(&[]).expect("the test scenes pass");
+            events += sync.world().events().len();
+        }
+        let allocations = counter.load(Ordering::SeqCst) - before;
+        assert!(
+            events > 0 || !events_needed,
+            "the measured ticks must have events"
+        );
+        allocations
+    })
+}
+
+#[test]
+fn sync_test_ticks_allocate_nothing_for_any_integrator() {
+    // Velocity Verlet and Forest-Ruth carry their force through the frames.
+    for drag in [false, true] {
+        for integrator in Integrator::ALL {
+            let scene = bouncing(64, integrator, drag);
+            assert_eq!(
+                sync_test_allocations(&scene, true),
+                0,
+                "{integrator}, drag {drag}"
+            );
+        }
+    }
+}
+
+#[test]
+fn sync_test_ticks_of_a_burning_motor_allocate_nothing() {
+    // The frames keep the masses while the motor burns.
+    let scene = scene::bundled("model_rocket").expect("bundled scenes parse");
+    assert_eq!(sync_test_allocations(&scene, false), 0);
 }

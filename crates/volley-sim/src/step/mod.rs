@@ -13,7 +13,9 @@
 //! ```
 //!
 //! Commands are applied by [`crate::World::apply`] before a step, at the tick boundary; hashing
-//! is on demand ([`crate::hash::state_hash`]); neither happens inside a step.
+//! is on demand ([`crate::hash::state_hash`]); neither happens inside a step. `staged` runs the
+//! same stages as separate passes with a look at the world after each, for the sync test's
+//! stage hashes only ([`World::step_staged`]).
 //!
 //! The integrate stage is one loop over the bodies, monomorphised over the integrator and the
 //! force model (`integrate::visit`) and over whether the scene has any contacts, so a
@@ -26,11 +28,14 @@ mod batch;
 mod chunk;
 mod guard;
 mod kernel;
+mod staged;
 
 pub use crate::simd::{SimdLevel, simd_level};
 use crate::world::{Divergence, DivergenceCause, World};
 pub use batch::{BATCH_BLOCK, BATCH_MAX_TICKS};
 pub use kernel::STREAMING_MIN_BODIES;
+pub use staged::Stage;
+pub(crate) use staged::StageBuffers;
 
 /// Bodies per chunk below which stepping stays on one thread.
 pub const PARALLEL_MIN_CHUNK: usize = 16 * 1024;

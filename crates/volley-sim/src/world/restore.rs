@@ -35,7 +35,7 @@ impl World {
     /// position only) or Forest-Ruth, after a step. In Verlet's predicted form (drag) the buffer
     /// is not read, and any switch between the forms goes through a command, which invalidates
     /// it.
-    fn carries_force(&self) -> bool {
+    pub(crate) fn carries_force(&self) -> bool {
         self.carry_valid
             && self.state.carry.len() == self.state.bodies.len()
             && self.state.integrator.carries_force(&self.state.forces)

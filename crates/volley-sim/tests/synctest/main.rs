@@ -1,0 +1,5 @@
+//! The sync test: clean runs pass, injected nondeterminism is caught and placed.
+
+mod basics;
+mod faults;
+mod sweep;

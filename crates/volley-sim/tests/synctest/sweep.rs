@@ -1,0 +1,157 @@
+//! No false positives: every bundled scene under every integrator it allows passes the sync
+//! test, with commands of every kind the scene takes, and ends where plain stepping ends.
+//!
+//! The dev-profile tests cover 300 ticks of each pair (30 for the worlds of a thousand bodies
+//! or more, 4 for the 10 000-body volley) at K = 7, and a shorter run with stage hashes and the
+//! re-runs on another thread count. The full sweep, 100 000 ticks of every pair, is the ignored
+//! test below, run in release:
+//!
+//! ```text
+//! cargo test --release -p volley-sim --test synctest -- --ignored --nocapture
+//! ```
+//!
+//! `VOLLEY_SYNC_TICKS` changes its length. It takes about an hour on two cores (BENCHMARKS.md,
+//! "Sync test", gives the last run's time).
+
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use volley_sim::internals::scene::BUNDLED;
+use volley_sim::{
+    Command, Integrator, Scene, SyncError, SyncTest, World, bundled_scene, state_hash,
+};
+
+/// The commands of tick `tick` for `world`: a fire, a launcher change, another fire, the
+/// first fired body despawned, a reset; each where the scene takes it.
+fn commands_at(tick: u64, world: &World, fired: &mut Option<volley_sim::BodyId>) -> Vec<Command> {
+    match tick {
+        2 | 6 => vec![Command::Fire],
+        4 => vec![Command::SetLaunch {
+            speed: Some(world.launcher().speed + 1.0),
+            elevation_deg: None,
+            azimuth_deg: Some(5.0),
+            position: None,
+        }],
+        9 => fired.take().map(Command::Despawn).into_iter().collect(),
+        15 => vec![Command::Reset],
+        _ => Vec::new(),
+    }
+}
+
+/// Runs `scene` for `ticks` under a sync test (`setup` configures it) and under plain
+/// stepping with the same commands; both must end on the same state, or diverge alike.
+fn run_pair(scene: &Scene, ticks: u64, setup: impl Fn(SyncTest) -> SyncTest) -> Result<(), String> {
+    let label = format!("{} under {}", scene.name(), scene.integrator());
+    let mut sync = setup(SyncTest::new(World::new(scene), 7).expect("7 is in range"));
+    let mut plain = World::new(scene);
+    let mut fired = None;
+    for tick in 0..ticks {
+        let commands = commands_at(tick, &plain, &mut fired);
+        for c in &commands {
+            plain
+                .apply(c)
+                .map_err(|e| format!("{label}: the test's command {c} failed: {e}"))?;
+        }
+        if tick == 2 {
+            fired = plain.bodies().ids().last().copied();
+        }
+        let stepped = plain.step();
+        match sync.advance(&commands) {
+            Ok(()) => {}
+            Err(SyncError::Diverged(d)) if stepped == Err(d) => return Ok(()),
+            Err(SyncError::Mismatch(m)) => {
+                return Err(format!("{label}: false positive\n{}", m.report(Some(8))));
+            }
+            Err(e) => return Err(format!("{label}: {e} (plain stepping: {stepped:?})")),
+        }
+        if let Err(d) = stepped {
+            return Err(format!(
+                "{label}: plain stepping {d}, the sync test did not"
+            ));
+        }
+    }
+    if state_hash(&plain) != state_hash(sync.world()) || plain.snapshot() != sync.world().snapshot()
+    {
+        return Err(format!(
+            "{label}: the sync test's world ends elsewhere than plain stepping"
+        ));
+    }
+    Ok(())
+}
+
+/// Every bundled scene under every integrator it allows.
+fn pairs() -> Vec<Scene> {
+    let mut out = Vec::new();
+    for (name, _) in BUNDLED {
+        let base = bundled_scene(name).expect("bundled scenes parse");
+        for integrator in Integrator::ALL {
+            let mut scene = base.clone();
+            if scene.set_integrator(integrator).is_ok() {
+                out.push(scene);
+            }
+        }
+    }
+    out
+}
+
+/// Ticks for a scene: `ticks`, fewer for large worlds.
+fn length(scene: &Scene, ticks: u64, big: u64, huge: u64) -> u64 {
+    match World::new(scene).bodies().len() {
+        0..1000 => ticks,
+        1000..5000 => big,
+        _ => huge,
+    }
+}
+
+/// Runs every pair on one plain thread per core (not rayon's workers: a worker waiting for
+/// the re-runs' pool would run another pair on top of its stack).
+fn sweep(ticks: u64, big: u64, huge: u64, setup: impl Fn(SyncTest) -> SyncTest + Sync) {
+    let pairs = pairs();
+    assert!(pairs.len() > 150, "{} pairs", pairs.len());
+    let next = AtomicUsize::new(0);
+    let failures = Mutex::new(Vec::new());
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    std::thread::scope(|s| {
+        for _ in 0..cores {
+            s.spawn(|| {
+                while let Some(scene) = pairs.get(next.fetch_add(1, Ordering::Relaxed)) {
+                    if let Err(e) = run_pair(scene, length(scene, ticks, big, huge), &setup) {
+                        failures.lock().expect("not poisoned").push(e);
+                    }
+                }
+            });
+        }
+    });
+    let failures = failures.into_inner().expect("not poisoned");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn every_bundled_scene_under_every_integrator_passes() {
+    sweep(300, 30, 4, |s| s);
+}
+
+#[test]
+fn every_bundled_scene_passes_with_stage_hashes_and_other_threads() {
+    sweep(40, 4, 2, |s| {
+        s.with_stage_hashes(true)
+            .with_rerun_threads(3)
+            .expect("three threads")
+    });
+}
+
+#[test]
+#[ignore = "the full sweep: about an hour in release (see the module doc)"]
+fn every_bundled_scene_under_every_integrator_passes_for_1e5_ticks() {
+    let ticks = std::env::var("VOLLEY_SYNC_TICKS")
+        .ok()
+        .and_then(|t| t.parse().ok())
+        .unwrap_or(100_000);
+    let start = std::time::Instant::now();
+    sweep(ticks, ticks, ticks, |s| s);
+    eprintln!(
+        "sync test sweep: {} pairs x {ticks} ticks at K = 7 in {:.0} s",
+        pairs().len(),
+        start.elapsed().as_secs_f64()
+    );
+}
