@@ -320,7 +320,13 @@ pub(crate) fn visit<V: SchemeVisitor>(
     tolerance: f64,
     v: V,
 ) -> V::Out {
-    visit_with(integrator, forces, forces.constant_field(), tolerance, v)
+    visit_with(
+        integrator,
+        forces,
+        forces.constant_field().as_ref(),
+        tolerance,
+        v,
+    )
 }
 
 /// [`visit`] with `forces.constant_field()` already worked out (a world keeps it:
@@ -329,12 +335,12 @@ pub(crate) fn visit<V: SchemeVisitor>(
 pub(crate) fn visit_with<V: SchemeVisitor>(
     integrator: Integrator,
     forces: &Forces,
-    constant: Option<crate::forces::ConstantField>,
+    constant: Option<&crate::forces::ConstantField>,
     tolerance: f64,
     v: V,
 ) -> V::Out {
     if let Some(field) = constant {
-        return visit_model(integrator, &field, tolerance, v);
+        return visit_model(integrator, field, tolerance, v);
     }
     if let Some(field) = DragField::<false>::of(forces) {
         return visit_model(integrator, &field, tolerance, v);

@@ -38,7 +38,7 @@ impl World {
         let out = visit_with(
             self.state.integrator,
             &self.state.forces,
-            self.facts.constant,
+            self.facts.constant.as_ref(),
             self.params.tolerance,
             Integrate {
                 chunk,

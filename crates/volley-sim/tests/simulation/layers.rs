@@ -25,6 +25,7 @@ const LAYERS: &[&[&str]] = &[
         "timeline",
         "pacing",
     ],
+    &["synctest"],
 ];
 
 fn layer_of(module: &str) -> Option<usize> {
