@@ -56,6 +56,10 @@ pub(crate) struct StepContext<'a> {
     pub h: f64,
     /// Normal speed below which a bounce ends at rest (m/s): gravity's speed gain in one step.
     pub rest_speed: f64,
+    /// Whether the scene has level surfaces ([`Contacts::has_levels`]), read once a tick: the
+    /// per-body gate tests this flag (callgrind: 5 instructions a body-step less than reading
+    /// the two lists' lengths through `contacts` on `volley`, 1e4 bodies).
+    pub levels: bool,
 }
 
 /// The body being resolved.
@@ -153,7 +157,7 @@ pub(crate) fn needs_resolution(
             return true;
         }
     }
-    if contacts.has_levels() && level_contact::may_reach_levels(contacts, r, inv_m, ctx.h, s0, s1) {
+    if ctx.levels && level_contact::may_reach_levels(contacts, r, inv_m, ctx.h, s0, s1) {
         return true;
     }
     // A closest approach inside the step (the approach rate turns from < 0 to >= 0), or an
@@ -196,7 +200,7 @@ pub(crate) fn resolve<S: Scheme>(
         Detection::Swept => {
             // Level surfaces' work compiled in only for scenes with levels: a scene of planes
             // steps as it did before levels existed.
-            let (s, c, n) = if ctx.contacts.has_levels() {
+            let (s, c, n) = if ctx.levels {
                 resolve_swept::<S, true>(scheme, ctx, body, (s0, c0), (s1, c1), out)
             } else {
                 resolve_swept::<S, false>(scheme, ctx, body, (s0, c0), (s1, c1), out)

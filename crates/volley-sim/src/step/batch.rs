@@ -40,6 +40,7 @@ impl World {
             since_start: self.state.tick as f64 * self.params.h,
             h,
             rest_speed: 0.0,
+            levels: self.params.contacts.has_levels(),
         };
         let b = &mut self.state.bodies;
         let (fixed, p, mv) = Fixed::of(b, self.facts.reads_launch);

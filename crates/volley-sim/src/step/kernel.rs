@@ -31,6 +31,7 @@ impl World {
             since_start: since,
             h,
             rest_speed: gravity * h,
+            levels: self.params.contacts.has_levels(),
         };
         let b = &mut self.state.bodies;
         let (fixed, p, mv) = Fixed::of(b, self.facts.reads_launch);

@@ -235,6 +235,7 @@ fn step_context<'c>(
         since_start: since,
         h,
         rest_speed: gravity * h,
+        levels: contacts.has_levels(),
     }
 }
 
