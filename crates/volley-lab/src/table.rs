@@ -221,7 +221,7 @@ impl<W: Write> TableWriter<W> {
 
 impl<W: Write> TickObserver for TableWriter<W> {
     /// Every tick: the tick's events, if it had any, and a row every `every` ticks. The writes
-    /// are out of line ([`TableWriter::write_tick`]), so a tick with neither costs two tests.
+    /// are out of line (`TableWriter::write_tick`), so a tick with neither costs two tests.
     #[inline]
     fn after_tick(&mut self, world: &World) -> Result<(), ObserverError> {
         let row = self.rows && world.tick().is_multiple_of(self.every);

@@ -569,7 +569,7 @@ pub fn load_with(path: &Path, terms: &ForceTerms) -> Result<Scene, SceneError> {
 /// `default_name` is used if the scene has no `name` ([`parse_with`] takes the program's
 /// terms). Level files the scene names (`meshes`, `heightfields`) are read relative to
 /// `file`'s folder (the current one if it has none); one not on disk whose path ends in
-/// `levels/NAME` for a file Volley ships ([`BUNDLED_LEVELS`]) is that file.
+/// `levels/NAME` for a file Volley ships (`BUNDLED_LEVELS`) is that file.
 pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Scene, SceneError> {
     parse_with(text, file, default_name, &ForceTerms::new())
 }

@@ -87,7 +87,7 @@ pub struct MeshGeometry {
     /// is two-sided, so the winding only matters to a renderer).
     pub triangles: Vec<[u32; 3]>,
     /// Degenerate triangles the reader dropped (zero area, see
-    /// [`super::triangle::is_degenerate`]); they are not in `triangles`.
+    /// `super::triangle::is_degenerate`); they are not in `triangles`.
     pub degenerate: u32,
 }
 
