@@ -57,8 +57,7 @@ pub(crate) struct StepContext<'a> {
     /// Normal speed below which a bounce ends at rest (m/s): gravity's speed gain in one step.
     pub rest_speed: f64,
     /// Whether the scene has level surfaces ([`Contacts::has_levels`]), read once a tick: the
-    /// per-body gate tests this flag (callgrind: 5 instructions a body-step less than reading
-    /// the two lists' lengths through `contacts` on `volley`, 1e4 bodies).
+    /// kernel picks its `LEVELS` version by it ([`needs_resolution`]), so no body-step tests it.
     pub levels: bool,
 }
 
@@ -136,8 +135,11 @@ fn planes(contacts: &Contacts, p: DVec3, r: f64) -> impl Iterator<Item = Plane> 
 }
 
 /// Whether a body moving from `s0` to `s1` might need the contact stage at all.
+/// `LEVELS` is [`StepContext::levels`] as a constant: the kernel is compiled once with level
+/// surfaces and once without, so a scene of planes pays nothing for them (2 instructions a
+/// body-step on `volley`, 1e4 bodies, callgrind).
 #[inline]
-pub(crate) fn needs_resolution(
+pub(crate) fn needs_resolution<const LEVELS: bool>(
     ctx: &StepContext,
     r: f64,
     inv_m: f64,
@@ -157,7 +159,7 @@ pub(crate) fn needs_resolution(
             return true;
         }
     }
-    if ctx.levels && level_contact::may_reach_levels(contacts, r, inv_m, ctx.h, s0, s1) {
+    if LEVELS && level_contact::may_reach_levels(contacts, r, inv_m, ctx.h, s0, s1) {
         return true;
     }
     // A closest approach inside the step (the approach rate turns from < 0 to >= 0), or an
@@ -188,7 +190,8 @@ fn approach_rate(t: &Target, c: DVec3, s: &BodyState, inv_m: f64) -> f64 {
 /// Resolves contacts for one body over one step that went from `s0` (carried force `c0`) to
 /// `s1` (`c1`) under `scheme`. Returns the corrected end state and carry, and the number of
 /// extra force evaluations spent; pushes events to `out`.
-pub(crate) fn resolve<S: Scheme>(
+/// `LEVELS` as in [`needs_resolution`].
+pub(crate) fn resolve<S: Scheme, const LEVELS: bool>(
     scheme: &S,
     ctx: &StepContext,
     body: Particle,
@@ -200,11 +203,7 @@ pub(crate) fn resolve<S: Scheme>(
         Detection::Swept => {
             // Level surfaces' work compiled in only for scenes with levels: a scene of planes
             // steps as it did before levels existed.
-            let (s, c, n) = if ctx.levels {
-                resolve_swept::<S, true>(scheme, ctx, body, (s0, c0), (s1, c1), out)
-            } else {
-                resolve_swept::<S, false>(scheme, ctx, body, (s0, c0), (s1, c1), out)
-            };
+            let (s, c, n) = resolve_swept::<S, LEVELS>(scheme, ctx, body, (s0, c0), (s1, c1), out);
             if n > MAX_CONTACT_EVALS {
                 return (SPENT, c, n);
             }
@@ -392,7 +391,7 @@ fn resolve_swept<S: Scheme, const LEVELS: bool>(
 /// `b`. The distance to a target's centre along the segment falls while `(p - c) . V < 0`, so
 /// its minimum is at the sign change of that rate (if inside the segment) or at an end.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 fn targets_on_segment<S: Scheme>(
     scheme: &S,
     ctx: &StepContext,

@@ -99,9 +99,11 @@ impl SchemeVisitor for Integrate<'_, '_> {
         } = self;
         let extra = start_carry(&scheme, &mut chunk, carry_valid, ctx.t0);
         let out = if ctx.contacts.is_empty() {
-            split_run::<S, false>(&scheme, chunk, ctx, events)
+            split_run::<S, false, false>(&scheme, chunk, ctx, events)
+        } else if ctx.levels {
+            split_run::<S, true, true>(&scheme, chunk, ctx, events)
         } else {
-            split_run::<S, true>(&scheme, chunk, ctx, events)
+            split_run::<S, true, false>(&scheme, chunk, ctx, events)
         };
         KernelOut {
             evals: out.evals + extra,
@@ -149,7 +151,7 @@ pub(super) fn finite(v: DVec3) -> bool {
 
 /// The per-body loop of one chunk, in the widest version the CPU runs ([`simd_level`]).
 #[inline]
-pub(super) fn run<S: Scheme, const CONTACTS: bool>(
+pub(super) fn run<S: Scheme, const CONTACTS: bool, const LEVELS: bool>(
     scheme: &S,
     l: &mut Chunk,
     ctx: &StepContext,
@@ -164,55 +166,65 @@ pub(super) fn run<S: Scheme, const CONTACTS: bool>(
         match simd_level() {
             _ if l.len() < 8 => {}
             SimdLevel::Avx512 if streaming => {
-                return unsafe { run_avx512::<S, CONTACTS, true>(scheme, l, ctx, events) };
+                return unsafe { run_avx512::<S, CONTACTS, LEVELS, true>(scheme, l, ctx, events) };
             }
             SimdLevel::Avx512 => {
-                return unsafe { run_avx512::<S, CONTACTS, false>(scheme, l, ctx, events) };
+                return unsafe { run_avx512::<S, CONTACTS, LEVELS, false>(scheme, l, ctx, events) };
             }
             SimdLevel::Avx2 if streaming => {
-                return unsafe { run_avx2::<S, CONTACTS, true>(scheme, l, ctx, events) };
+                return unsafe { run_avx2::<S, CONTACTS, LEVELS, true>(scheme, l, ctx, events) };
             }
             SimdLevel::Avx2 => {
-                return unsafe { run_avx2::<S, CONTACTS, false>(scheme, l, ctx, events) };
+                return unsafe { run_avx2::<S, CONTACTS, LEVELS, false>(scheme, l, ctx, events) };
             }
             SimdLevel::Baseline => {}
         }
     }
-    run_baseline::<S, CONTACTS>(scheme, l, ctx, events)
+    run_baseline::<S, CONTACTS, LEVELS>(scheme, l, ctx, events)
 }
 
 #[inline(never)]
-pub(super) fn run_baseline<S: Scheme, const CONTACTS: bool>(
+pub(super) fn run_baseline<S: Scheme, const CONTACTS: bool, const LEVELS: bool>(
     scheme: &S,
     l: &mut Chunk,
     ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    run_chunk::<S, CONTACTS, false>(scheme, l, ctx, events)
+    run_chunk::<S, CONTACTS, LEVELS, false>(scheme, l, ctx, events)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[inline(never)]
 #[target_feature(enable = "avx2")]
-pub(super) fn run_avx2<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
+pub(super) fn run_avx2<
+    S: Scheme,
+    const CONTACTS: bool,
+    const LEVELS: bool,
+    const STREAMING: bool,
+>(
     scheme: &S,
     l: &mut Chunk,
     ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    run_chunk::<S, CONTACTS, STREAMING>(scheme, l, ctx, events)
+    run_chunk::<S, CONTACTS, LEVELS, STREAMING>(scheme, l, ctx, events)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[inline(never)]
 #[target_feature(enable = "avx512f")]
-pub(super) fn run_avx512<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
+pub(super) fn run_avx512<
+    S: Scheme,
+    const CONTACTS: bool,
+    const LEVELS: bool,
+    const STREAMING: bool,
+>(
     scheme: &S,
     l: &mut Chunk,
     ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    run_chunk::<S, CONTACTS, STREAMING>(scheme, l, ctx, events)
+    run_chunk::<S, CONTACTS, LEVELS, STREAMING>(scheme, l, ctx, events)
 }
 
 /// Chunks of at least this many bodies (about 30 MB of state, an L3's worth) stream from
@@ -223,8 +235,14 @@ pub const STREAMING_MIN_BODIES: usize = 1 << 18;
 
 /// The per-body loop of one chunk, inlined into each instruction-set version of [`run`].
 /// `STREAMING` recomputes `1 / m` instead of loading it (see [`STREAMING_MIN_BODIES`]).
+/// `CONTACTS` compiles the contact stage in, `LEVELS` its level surfaces (meshes, heightfields).
 #[inline(always)]
-pub(super) fn run_chunk<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
+pub(super) fn run_chunk<
+    S: Scheme,
+    const CONTACTS: bool,
+    const LEVELS: bool,
+    const STREAMING: bool,
+>(
     scheme: &S,
     l: &mut Chunk,
     ctx: &StepContext,
@@ -265,14 +283,15 @@ pub(super) fn run_chunk<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
         } else {
             scheme.step(s0, w, t, h, c0)
         };
-        if CONTACTS && contact::needs_resolution(ctx, l.radius[i], w.inv, &s0, &s1) {
+        if CONTACTS && contact::needs_resolution::<LEVELS>(ctx, l.radius[i], w.inv, &s0, &s1) {
             let body = Particle {
                 id: l.ids[i],
                 w,
                 r: l.radius[i],
             };
             let extra;
-            (s1, c1, extra) = contact::resolve(scheme, ctx, body, (s0, c0), (s1, c1), events);
+            (s1, c1, extra) =
+                contact::resolve::<S, LEVELS>(scheme, ctx, body, (s0, c0), (s1, c1), events);
             evals += extra;
         }
         all_finite &= finite(s1.p) & finite(s1.mv);

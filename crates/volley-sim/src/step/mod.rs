@@ -18,8 +18,8 @@
 //! stage hashes only ([`World::step_staged`]).
 //!
 //! The integrate stage is one loop over the bodies, monomorphised over the integrator and the
-//! force model (`integrate::visit`) and over whether the scene has any contacts, so a
-//! scene pays for exactly what it declares. With several threads the bodies are split into
+//! force model (`integrate::visit`) and over whether the scene has any contacts and any level
+//! surfaces, so a scene pays for exactly what it declares. With several threads the bodies are split into
 //! contiguous chunks ([`rayon::join`]); each chunk writes its own event buffer and the buffers
 //! are concatenated in chunk order, and the per-body arithmetic does not depend on the chunking,
 //! so the state and the events are bit-identical for every thread count.

@@ -315,36 +315,51 @@ impl SchemeVisitor for ContactsPass<'_, '_> {
             buffers,
             events,
         } = self;
-        let l = &mut chunk;
-        // A stage hook may have changed the body count; only the bodies both passes saw.
-        let n = l.len().min(buffers.start.len());
-        let mut evals = 0;
-        for i in 0..n {
-            let w = l.launch.mass::<S>(i, l.mass[i], l.inv_mass[i]);
-            let (s0, c0) = buffers.start[i];
-            let s1 = BodyState {
-                p: DVec3::new(l.px[i], l.py[i], l.pz[i]),
-                mv: DVec3::new(l.mx[i], l.my[i], l.mz[i]),
-            };
-            if !contact::needs_resolution(ctx, l.radius[i], w.inv, &s0, &s1) {
-                continue;
-            }
-            let body = Particle {
-                id: l.ids[i],
-                w,
-                r: l.radius[i],
-            };
-            let c1 = buffers.end_force[i];
-            let (s, c, extra) = contact::resolve(&scheme, ctx, body, (s0, c0), (s1, c1), events);
-            evals += extra;
-            (l.px[i], l.py[i], l.pz[i]) = (s.p.x, s.p.y, s.p.z);
-            (l.mx[i], l.my[i], l.mz[i]) = (s.mv.x, s.mv.y, s.mv.z);
-            if S::CARRIES_FORCE {
-                (l.cx[i], l.cy[i], l.cz[i]) = (c.x, c.y, c.z);
-            }
+        if ctx.levels {
+            contacts_pass::<S, true>(&scheme, &mut chunk, ctx, buffers, events)
+        } else {
+            contacts_pass::<S, false>(&scheme, &mut chunk, ctx, buffers, events)
         }
-        evals
     }
+}
+
+/// The contact stage over the bodies of `l`, as the kernel runs it (`LEVELS` as there).
+fn contacts_pass<S: Scheme, const LEVELS: bool>(
+    scheme: &S,
+    l: &mut Chunk,
+    ctx: &StepContext,
+    buffers: &StageBuffers,
+    events: &mut Vec<Event>,
+) -> u64 {
+    // A stage hook may have changed the body count; only the bodies both passes saw.
+    let n = l.len().min(buffers.start.len());
+    let mut evals = 0;
+    for i in 0..n {
+        let w = l.launch.mass::<S>(i, l.mass[i], l.inv_mass[i]);
+        let (s0, c0) = buffers.start[i];
+        let s1 = BodyState {
+            p: DVec3::new(l.px[i], l.py[i], l.pz[i]),
+            mv: DVec3::new(l.mx[i], l.my[i], l.mz[i]),
+        };
+        if !contact::needs_resolution::<LEVELS>(ctx, l.radius[i], w.inv, &s0, &s1) {
+            continue;
+        }
+        let body = Particle {
+            id: l.ids[i],
+            w,
+            r: l.radius[i],
+        };
+        let c1 = buffers.end_force[i];
+        let (s, c, extra) =
+            contact::resolve::<S, LEVELS>(scheme, ctx, body, (s0, c0), (s1, c1), events);
+        evals += extra;
+        (l.px[i], l.py[i], l.pz[i]) = (s.p.x, s.p.y, s.p.z);
+        (l.mx[i], l.my[i], l.mz[i]) = (s.mv.x, s.mv.y, s.mv.z);
+        if S::CARRIES_FORCE {
+            (l.cx[i], l.cy[i], l.cz[i]) = (c.x, c.y, c.z);
+        }
+    }
+    evals
 }
 
 #[cfg(test)]
