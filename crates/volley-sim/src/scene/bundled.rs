@@ -46,7 +46,6 @@ pub const BUNDLED: &[(&str, &str)] = &[
     ),
     ("hard/hill", include_str!("../../scenes/hard/hill.ron")),
     ("hard/hitch", include_str!("../../scenes/hard/hitch.ron")),
-    ("hard/hitch", include_str!("../../scenes/hard/hitch.ron")),
     (
         "hard/kepler_time",
         include_str!("../../scenes/hard/kepler_time.ron"),

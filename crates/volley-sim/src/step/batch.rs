@@ -40,6 +40,7 @@ impl World {
             since_start: self.state.tick as f64 * self.params.h,
             h,
             rest_speed: 0.0,
+            fresh: &[],
         };
         let b = &mut self.state.bodies;
         let (fixed, p, mv) = Fixed::of(b, &self.state.forces);
@@ -199,7 +200,8 @@ pub(super) fn batch_chunk<S: Scheme>(
                     t0: (start_time + (tick - 1) as f64 * dt) + f64::from(k) * work.ctx.h,
                     ..*work.ctx
                 };
-                let o = run::<S, false>(scheme, &mut block.sub(0, end - start), &ctx, events);
+                let o =
+                    run::<S, false, false>(scheme, &mut block.sub(0, end - start), &ctx, events);
                 evals += o.evals;
                 ok &= o.first_non_finite.is_none();
             }

@@ -314,22 +314,22 @@ impl<'a> Chunk<'a> {
 }
 
 /// Splits the bodies into `events.len()` chunks and runs them in parallel, combining in order.
-pub(super) fn split_run<S: Scheme, const CONTACTS: bool>(
+pub(super) fn split_run<S: Scheme, const CONTACTS: bool, const EVENTS: bool>(
     scheme: &S,
     mut chunk: Chunk,
     ctx: &StepContext,
     events: &mut [Vec<Event>],
 ) -> KernelOut {
     if events.len() <= 1 {
-        return run::<S, CONTACTS>(scheme, &mut chunk, ctx, &mut events[0]);
+        return run::<S, CONTACTS, EVENTS>(scheme, &mut chunk, ctx, &mut events[0]);
     }
     let half = events.len() / 2;
     let mid = chunk.len() * half / events.len();
     let (left, right) = chunk.split_at(mid);
     let (ev_left, ev_right) = events.split_at_mut(half);
     let (a, b) = rayon::join(
-        || split_run::<S, CONTACTS>(scheme, left, ctx, ev_left),
-        || split_run::<S, CONTACTS>(scheme, right, ctx, ev_right),
+        || split_run::<S, CONTACTS, EVENTS>(scheme, left, ctx, ev_left),
+        || split_run::<S, CONTACTS, EVENTS>(scheme, right, ctx, ev_right),
     );
     a.then(b)
 }

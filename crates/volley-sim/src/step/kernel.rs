@@ -4,8 +4,8 @@
 
 use glam::DVec3;
 
-use crate::contact::{self, Event, Particle, StepContext};
-use crate::integrate::{BodyState, Scheme, SchemeVisitor, visit};
+use crate::contact::{self, Detection, Event, Particle, StepContext};
+use crate::integrate::{BodyState, Dense, Scheme, SchemeVisitor, visit};
 #[cfg(target_arch = "x86_64")]
 use crate::simd::{SimdLevel, simd_level};
 use crate::world::World;
@@ -31,6 +31,7 @@ impl World {
             since_start: since,
             h,
             rest_speed: gravity * h,
+            fresh: &self.scratch.fresh,
         };
         let b = &mut self.state.bodies;
         let (fixed, p, mv) = Fixed::of(b, &self.state.forces);
@@ -44,9 +45,11 @@ impl World {
                 ctx: &ctx,
                 events: &mut self.scratch.chunk_events[..chunks],
                 carry_valid: self.carry_valid,
+                stage: self.stage,
             },
         );
         self.carry_valid = out.carried;
+        self.event_evals = self.event_evals.saturating_add(out.event_evals);
         // Saturating: a keyframe read from a file may start the count anywhere (fuzzing found
         // one near u64::MAX).
         self.state.force_evals = self.state.force_evals.saturating_add(out.evals);
@@ -65,6 +68,8 @@ pub(super) struct KernelOut {
     pub(super) first_non_finite: Option<usize>,
     /// Whether the scheme wrote the carried force (velocity Verlet's carrying form only).
     pub(super) carried: bool,
+    /// Force evaluations the declared events' search spent (not the step's).
+    pub(super) event_evals: u64,
 }
 
 impl KernelOut {
@@ -75,6 +80,33 @@ impl KernelOut {
             evals: self.evals + later.evals,
             first_non_finite: self.first_non_finite.or(later.first_non_finite),
             carried: self.carried,
+            event_evals: self.event_evals + later.event_evals,
+        }
+    }
+}
+
+/// Which per-body loop a world's step runs, fixed by its scene: no contact stage at all,
+/// contacts only, or contacts and declared events.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Stage {
+    /// Neither contacts nor events.
+    #[default]
+    Bare,
+    /// Contacts, no declared events.
+    Contacts,
+    /// Declared events (and any contacts).
+    Events,
+}
+
+impl Stage {
+    /// The stage of a scene's contacts and events.
+    pub fn of(contacts: &crate::contact::Contacts) -> Stage {
+        if !contacts.events.is_empty() {
+            Stage::Events
+        } else if contacts.is_empty() {
+            Stage::Bare
+        } else {
+            Stage::Contacts
         }
     }
 }
@@ -84,6 +116,7 @@ pub(super) struct Integrate<'a, 'f> {
     ctx: &'f StepContext<'f>,
     events: &'a mut [Vec<Event>],
     carry_valid: bool,
+    stage: Stage,
 }
 
 impl SchemeVisitor for Integrate<'_, '_> {
@@ -94,12 +127,13 @@ impl SchemeVisitor for Integrate<'_, '_> {
             ctx,
             events,
             carry_valid,
+            stage,
         } = self;
         let extra = start_carry(&scheme, &mut chunk, carry_valid, ctx.t0);
-        let out = if ctx.contacts.is_empty() {
-            split_run::<S, false>(&scheme, chunk, ctx, events)
-        } else {
-            split_run::<S, true>(&scheme, chunk, ctx, events)
+        let out = match stage {
+            Stage::Bare => split_run::<S, false, false>(&scheme, chunk, ctx, events),
+            Stage::Contacts => split_run::<S, true, false>(&scheme, chunk, ctx, events),
+            Stage::Events => split_run::<S, true, true>(&scheme, chunk, ctx, events),
         };
         KernelOut {
             evals: out.evals + extra,
@@ -147,7 +181,7 @@ pub(super) fn finite(v: DVec3) -> bool {
 
 /// The per-body loop of one chunk, in the widest version the CPU runs ([`simd_level`]).
 #[inline]
-pub(super) fn run<S: Scheme, const CONTACTS: bool>(
+pub(super) fn run<S: Scheme, const CONTACTS: bool, const EVENTS: bool>(
     scheme: &S,
     l: &mut Chunk,
     ctx: &StepContext,
@@ -162,55 +196,65 @@ pub(super) fn run<S: Scheme, const CONTACTS: bool>(
         match simd_level() {
             _ if l.len() < 8 => {}
             SimdLevel::Avx512 if streaming => {
-                return unsafe { run_avx512::<S, CONTACTS, true>(scheme, l, ctx, events) };
+                return unsafe { run_avx512::<S, CONTACTS, EVENTS, true>(scheme, l, ctx, events) };
             }
             SimdLevel::Avx512 => {
-                return unsafe { run_avx512::<S, CONTACTS, false>(scheme, l, ctx, events) };
+                return unsafe { run_avx512::<S, CONTACTS, EVENTS, false>(scheme, l, ctx, events) };
             }
             SimdLevel::Avx2 if streaming => {
-                return unsafe { run_avx2::<S, CONTACTS, true>(scheme, l, ctx, events) };
+                return unsafe { run_avx2::<S, CONTACTS, EVENTS, true>(scheme, l, ctx, events) };
             }
             SimdLevel::Avx2 => {
-                return unsafe { run_avx2::<S, CONTACTS, false>(scheme, l, ctx, events) };
+                return unsafe { run_avx2::<S, CONTACTS, EVENTS, false>(scheme, l, ctx, events) };
             }
             SimdLevel::Baseline => {}
         }
     }
-    run_baseline::<S, CONTACTS>(scheme, l, ctx, events)
+    run_baseline::<S, CONTACTS, EVENTS>(scheme, l, ctx, events)
 }
 
 #[inline(never)]
-pub(super) fn run_baseline<S: Scheme, const CONTACTS: bool>(
+pub(super) fn run_baseline<S: Scheme, const CONTACTS: bool, const EVENTS: bool>(
     scheme: &S,
     l: &mut Chunk,
     ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    run_chunk::<S, CONTACTS, false>(scheme, l, ctx, events)
+    run_chunk::<S, CONTACTS, EVENTS, false>(scheme, l, ctx, events)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[inline(never)]
 #[target_feature(enable = "avx2")]
-pub(super) fn run_avx2<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
+pub(super) fn run_avx2<
+    S: Scheme,
+    const CONTACTS: bool,
+    const EVENTS: bool,
+    const STREAMING: bool,
+>(
     scheme: &S,
     l: &mut Chunk,
     ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    run_chunk::<S, CONTACTS, STREAMING>(scheme, l, ctx, events)
+    run_chunk::<S, CONTACTS, EVENTS, STREAMING>(scheme, l, ctx, events)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[inline(never)]
 #[target_feature(enable = "avx512f")]
-pub(super) fn run_avx512<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
+pub(super) fn run_avx512<
+    S: Scheme,
+    const CONTACTS: bool,
+    const EVENTS: bool,
+    const STREAMING: bool,
+>(
     scheme: &S,
     l: &mut Chunk,
     ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    run_chunk::<S, CONTACTS, STREAMING>(scheme, l, ctx, events)
+    run_chunk::<S, CONTACTS, EVENTS, STREAMING>(scheme, l, ctx, events)
 }
 
 /// Chunks of at least this many bodies (about 30 MB of state, an L3's worth) stream from
@@ -222,7 +266,12 @@ pub const STREAMING_MIN_BODIES: usize = 1 << 18;
 /// The per-body loop of one chunk, inlined into each instruction-set version of [`run`].
 /// `STREAMING` recomputes `1 / m` instead of loading it (see [`STREAMING_MIN_BODIES`]).
 #[inline(always)]
-pub(super) fn run_chunk<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
+pub(super) fn run_chunk<
+    S: Scheme,
+    const CONTACTS: bool,
+    const EVENTS: bool,
+    const STREAMING: bool,
+>(
     scheme: &S,
     l: &mut Chunk,
     ctx: &StepContext,
@@ -240,6 +289,9 @@ pub(super) fn run_chunk<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
     let (t, h) = (ctx.t0, ctx.h);
     // An adaptive scheme counts its own evaluations, body by body.
     let mut evals = if S::ADAPTIVE { 0 } else { n as u64 * S::EVALS };
+    let mut event_evals = 0u64;
+    // Dormand-Prince's continuous extension of each body's step, for the events' search.
+    let mut dense = Dense::default();
     let mut all_finite = true;
     for i in 0..n {
         let w = if STREAMING {
@@ -256,21 +308,74 @@ pub(super) fn run_chunk<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
         } else {
             DVec3::ZERO
         };
-        let (mut s1, mut c1) = if S::ADAPTIVE {
+        let (mut s1, mut c1) = if EVENTS && S::DENSE {
+            let (s1, c1, n) = scheme.step_dense(s0, w, t, h, c0, &mut dense);
+            evals += n;
+            (s1, c1)
+        } else if S::ADAPTIVE {
             let (s1, c1, n) = scheme.step_counted(s0, w, t, h, c0);
             evals += n;
             (s1, c1)
         } else {
             scheme.step(s0, w, t, h, c0)
         };
-        if CONTACTS && contact::needs_resolution(ctx, l.radius[i], w.inv, &s0, &s1) {
+        if EVENTS {
             let body = Particle {
                 id: l.ids[i],
                 w,
                 r: l.radius[i],
+                fresh: ctx.fresh.binary_search(&l.ids[i]).is_ok(),
+            };
+            let resolves = contact::needs_resolution(ctx, l.radius[i], w.inv, &s0, &s1);
+            let swept = ctx.contacts.detection == Detection::Swept;
+            if !(resolves && swept) {
+                // The whole step is one segment (discrete detection's before its push-out).
+                if S::DENSE {
+                    contact::events_on_dense_step(scheme, ctx, body, (s0, s1), &dense, events);
+                } else {
+                    contact::events_on_segment(
+                        scheme,
+                        ctx,
+                        body,
+                        0.0,
+                        (s0, c0),
+                        h,
+                        s1,
+                        events,
+                        &mut event_evals,
+                    );
+                }
+            }
+            if resolves {
+                let extra;
+                (s1, c1, extra) = contact::resolve::<S, true>(
+                    scheme,
+                    ctx,
+                    body,
+                    (s0, c0),
+                    (s1, c1),
+                    events,
+                    &mut event_evals,
+                );
+                evals += extra;
+            }
+        } else if CONTACTS && contact::needs_resolution(ctx, l.radius[i], w.inv, &s0, &s1) {
+            let body = Particle {
+                id: l.ids[i],
+                w,
+                r: l.radius[i],
+                fresh: false,
             };
             let extra;
-            (s1, c1, extra) = contact::resolve(scheme, ctx, body, (s0, c0), (s1, c1), events);
+            (s1, c1, extra) = contact::resolve::<S, false>(
+                scheme,
+                ctx,
+                body,
+                (s0, c0),
+                (s1, c1),
+                events,
+                &mut event_evals,
+            );
             evals += extra;
         }
         all_finite &= finite(s1.p) & finite(s1.mv);
@@ -293,5 +398,6 @@ pub(super) fn run_chunk<S: Scheme, const CONTACTS: bool, const STREAMING: bool>(
         evals,
         first_non_finite,
         carried: S::CARRIES_FORCE,
+        event_evals,
     }
 }
