@@ -32,5 +32,6 @@ pub fn no_such_scene(arg: &str) -> String {
 
 pub mod app;
 pub mod palette;
+pub mod platform;
 pub mod plot;
 pub mod render;

@@ -27,9 +27,6 @@ pub const SIZE: (u32, u32) = (1200, 560);
 /// Errors below this (m) are drawn at it: a log axis has no zero.
 const ERROR_FLOOR: f64 = 1e-16;
 
-#[cfg(not(target_arch = "wasm32"))]
-static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans-subset.ttf");
-
 /// Why the diagram could not be made.
 #[derive(Debug)]
 pub enum PlotError {
@@ -53,23 +50,19 @@ impl std::fmt::Display for PlotError {
 
 impl std::error::Error for PlotError {}
 
-#[cfg(not(target_arch = "wasm32"))]
+/// Registers the embedded plot font as plotters' `sans-serif`. The browser build's plotters
+/// measures text with the page's fonts, not the embedded one, and draws no PNG with it: a plot
+/// written as an image is a desktop feature.
 fn register_font() -> Result<(), PlotError> {
-    static ONCE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    let ok = *ONCE.get_or_init(|| {
-        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()
-    });
-    ok.then_some(()).ok_or(PlotError::Font)
-}
-
-/// The browser build's plotters measures text with the page's fonts, not the embedded one, and
-/// draws no PNG with it: a plot written as an image is a desktop feature.
-#[cfg(target_arch = "wasm32")]
-fn register_font() -> Result<(), PlotError> {
-    Err(PlotError::Draw(
-        "PNG plots need the desktop build (the browser build has no font rasteriser for them)"
-            .into(),
-    ))
+    if crate::platform::IN_BROWSER {
+        return Err(PlotError::Draw(
+            "PNG plots need the desktop build (the browser build has no font rasteriser for them)"
+                .into(),
+        ));
+    }
+    crate::platform::register_plot_font()
+        .then_some(())
+        .ok_or(PlotError::Font)
 }
 
 /// Every plot's legend: the series' labels in a translucent white box with a black border.

@@ -5,8 +5,45 @@ use std::path::PathBuf;
 
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 
+use super::session::SessionError;
 use super::{Action, App};
 use crate::command::Command;
+use crate::replay::ReplayError;
+
+/// Why an action was refused: the session's reason, a recording that cannot be replayed, or the
+/// window's own (a script's click on a control not shown, a hover or a drag on nothing in view,
+/// going live with nothing replaying). The panel shows it as its `Display` says.
+#[derive(Debug)]
+pub(super) enum Refusal {
+    /// The session refused.
+    Session(SessionError),
+    /// The recording could not be replayed.
+    Replay(ReplayError),
+    /// The window refused.
+    Window(String),
+}
+
+impl From<SessionError> for Refusal {
+    fn from(e: SessionError) -> Refusal {
+        Refusal::Session(e)
+    }
+}
+
+impl From<ReplayError> for Refusal {
+    fn from(e: ReplayError) -> Refusal {
+        Refusal::Replay(e)
+    }
+}
+
+impl std::fmt::Display for Refusal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Refusal::Session(e) => e.fmt(f),
+            Refusal::Replay(e) => e.fmt(f),
+            Refusal::Window(why) => f.write_str(why),
+        }
+    }
+}
 
 impl App {
     /// Does what `action` asks; a refusal goes to the panel.
@@ -17,12 +54,12 @@ impl App {
     }
 
     /// Shows `why` in the panel as the last refusal.
-    pub(super) fn refuse(&mut self, why: String) {
+    pub(super) fn refuse(&mut self, why: impl std::fmt::Display) {
         self.ui.panel.refuse(&self.session, why);
     }
 
     /// Does what `action` asks, or says why it cannot.
-    fn act(&mut self, action: Action) -> Result<(), String> {
+    fn act(&mut self, action: Action) -> Result<(), Refusal> {
         let s = &mut self.session;
         match action {
             Action::TogglePause => s.set_paused(!s.is_paused()),
@@ -75,7 +112,7 @@ impl App {
             Action::Replay(path) => self.replay(&path)?,
             Action::GoLive => {
                 if !s.go_live() {
-                    return Err("go live: nothing is replaying".into());
+                    return Err(Refusal::Window("go live: nothing is replaying".into()));
                 }
                 self.ui.panel.sync(&self.session);
                 self.ui.panel.refused = None;
@@ -118,14 +155,14 @@ impl App {
             Action::Drag(grab, dx, dy) => self.scripted_drag(grab, dx, dy)?,
             Action::Click(at) => self.scripted_click(&at)?,
             Action::SaveSetup => {
-                let dir = s.recordings_dir.clone();
+                let dir = s.recordings_dir().to_path_buf();
                 self.ui.panel.saved_note = Some(match s.save_setup(&dir) {
                     Ok(path) => format!("saved the setup to {}", path.display()),
                     Err(e) => format!("could not save the setup: {e}"),
                 });
             }
             Action::SavePlots => {
-                let dir = s.recordings_dir.clone();
+                let dir = s.recordings_dir().to_path_buf();
                 self.ui.panel.saved_note = Some(match super::panel::plots::write(&dir, s) {
                     Ok((csv, png)) => format!("saved {} and {}", csv.display(), png.display()),
                     Err(e) => format!("could not save the plots: {e}"),
@@ -142,14 +179,14 @@ impl App {
     }
 
     /// Changes the step; the panel's step fields follow unless it is refused.
-    fn set_step(&mut self, dt: f64, substeps: u32) -> Result<(), String> {
+    fn set_step(&mut self, dt: f64, substeps: u32) -> Result<(), SessionError> {
         self.session.set_step(dt, substeps)?;
         self.ui.panel.sync(&self.session);
         Ok(())
     }
 
     /// Replays `path` in the window; a file that cannot be replayed leaves the session alone.
-    fn replay(&mut self, path: &std::path::Path) -> Result<(), String> {
+    fn replay(&mut self, path: &std::path::Path) -> Result<(), ReplayError> {
         self.replay_from(super::session::replaying::ReplaySource::File(
             path.to_path_buf(),
         ))
@@ -160,10 +197,8 @@ impl App {
     pub(super) fn replay_from(
         &mut self,
         source: super::session::replaying::ReplaySource,
-    ) -> Result<(), String> {
-        self.session
-            .start_replay_from(source, None)
-            .map_err(|e| e.to_string())?;
+    ) -> Result<(), ReplayError> {
+        self.session.start_replay_from(source, None)?;
         self.ui.panel.sync(&self.session);
         self.rewatch();
         self.retitle();
@@ -174,13 +209,17 @@ impl App {
     /// A script's click: on the 3D view it pins the probe there (what a real click does); on
     /// the panel it is a press and a release fed to egui over two frames, so the button under
     /// it acts as if clicked. Refused for a control the panel does not show.
-    fn scripted_click(&mut self, at: &super::input::ClickAt) -> Result<(), String> {
+    fn scripted_click(&mut self, at: &super::input::ClickAt) -> Result<(), Refusal> {
         use super::input::ClickAt;
         let point = match at {
             ClickAt::Point(x, y) => egui::pos2(*x, *y),
             ClickAt::Control(label) => match self.ui.controls.0.iter().find(|(l, _)| l == label) {
                 Some((_, rect)) => rect.center(),
-                None => return Err(format!("click {label}: no such control shown")),
+                None => {
+                    return Err(Refusal::Window(format!(
+                        "click {label}: no such control shown"
+                    )));
+                }
             },
         };
         let ppp = self.host.egui.pixels_per_point();
@@ -232,9 +271,9 @@ impl App {
 
     /// A script's drag: press on `grab`, move by (dx, dy), release; refused for what is not in
     /// view.
-    fn scripted_drag(&mut self, grab: Grab, dx: f32, dy: f32) -> Result<(), String> {
+    fn scripted_drag(&mut self, grab: Grab, dx: f32, dy: f32) -> Result<(), Refusal> {
         let Some(start) = self.grab_position(grab) else {
-            return Err(format!("drag {grab:?}: it is not in view"));
+            return Err(Refusal::Window(format!("drag {grab:?}: it is not in view")));
         };
         let world = self.session.world();
         let mut drag = SetupDrag::begin(grab, start, *world.launcher(), &world.contacts().targets);
@@ -244,12 +283,12 @@ impl App {
             start + glam::Vec2::new(dx, dy),
         );
         self.ui.setup_drag = Some(drag);
-        self.end_setup_drag()
+        Ok(self.end_setup_drag()?)
     }
 
     /// Ends a drag: the launcher's change as a `launch` command, a target's as a setup change;
     /// returns why the session refused it.
-    fn end_setup_drag(&mut self) -> Result<(), String> {
+    fn end_setup_drag(&mut self) -> Result<(), SessionError> {
         let Some(drag) = self.ui.setup_drag.take() else {
             return Ok(());
         };
@@ -301,8 +340,9 @@ impl App {
     }
 
     /// A script's hover: the pointer goes to `at`, or it says it could not.
-    fn hover_script(&mut self, at: Option<(f32, f32)>, what: String) -> Result<(), String> {
-        let (x, y) = at.ok_or_else(|| format!("{what}: nothing there to hover"))?;
+    fn hover_script(&mut self, at: Option<(f32, f32)>, what: String) -> Result<(), Refusal> {
+        let (x, y) =
+            at.ok_or_else(|| Refusal::Window(format!("{what}: nothing there to hover")))?;
         self.ui.pointer.position = Some((f64::from(x), f64::from(y)));
         Ok(())
     }

@@ -3,10 +3,10 @@
 
 use std::path::Path;
 
+use super::session::Session;
 use super::{App, AppError};
-use crate::render::{DrawOptions, View};
-#[cfg(not(target_arch = "wasm32"))]
-use crate::render::{Image, OffscreenTarget};
+use crate::platform;
+use crate::render::{DrawOptions, Image, OffscreenTarget, View};
 
 impl App {
     /// Draws the frame into the next surface texture and presents it, returning the screen it
@@ -40,8 +40,8 @@ impl App {
             gfx.refresh();
         }
         self.timing.stats.frames += 1;
-        #[cfg(target_arch = "wasm32")]
-        super::web::after_frame(&self.session, self.timing.stats.frames);
+        let frames = self.timing.stats.frames;
+        platform::show_on_page(|| page_facts(&self.session, frames));
         Some(screen)
     }
 
@@ -138,10 +138,15 @@ impl App {
         }
     }
 
+    /// Saves a screenshot of the frame as `path` (a PNG file on the desktop, a download in a
+    /// page: [`platform::save_screenshot`]).
+    fn capture(&mut self, path: &Path, ui: &FrameUi<'_>) -> Result<(), String> {
+        platform::save_screenshot(path, |path| self.write_png(path, ui))
+    }
+
     /// Draws the frame again into an offscreen texture of the surface's size and format, through
     /// the same [`App::draw`], and writes it as a PNG.
-    #[cfg(not(target_arch = "wasm32"))]
-    fn capture(&mut self, path: &Path, ui: &FrameUi<'_>) -> Result<(), String> {
+    fn write_png(&mut self, path: &Path, ui: &FrameUi<'_>) -> Result<(), String> {
         let Some(gfx) = self.host.gfx.as_ref() else {
             return Ok(());
         };
@@ -158,20 +163,33 @@ impl App {
         let image: Image = target.read(&gfx.gpu).map_err(|e| e.to_string())?;
         image.save_png(path).map_err(|e| e.to_string())
     }
+}
 
-    /// A page writes no files: the PNG is offered as a download, named as the desktop's file.
-    /// It is the canvas's own image, taken in the task that drew the frame (a browser keeps a
-    /// WebGPU canvas's image only until then). Reading the frame back through a mapped buffer,
-    /// as the desktop does, was refused by Chromium on SwiftShader here (the map's promise
-    /// rejected, with no GPU error).
-    #[cfg(target_arch = "wasm32")]
-    fn capture(&mut self, path: &Path, _ui: &FrameUi<'_>) -> Result<(), String> {
-        let name = path
-            .file_name()
-            .map_or("volley.png".into(), |n| n.to_string_lossy().into_owned());
-        super::web::download_canvas(&name);
-        Ok(())
+/// What a page shows on its canvas after a frame (`data-KEY`, for tests and curious users): the
+/// frame count, the first lane's tick, the scene's name, the lanes' integrators and how many of
+/// them fired their last aim, and while replaying, the replay's verdict line (the one
+/// `volley replay --verify` prints). Asked for only in a browser ([`platform::show_on_page`]).
+fn page_facts(session: &Session, frames: u64) -> Vec<(&'static str, String)> {
+    let lanes = session.lanes();
+    let integrators: Vec<&str> = lanes
+        .iter()
+        .map(|lane| lane.sim.world.integrator().name())
+        .collect();
+    let fired = lanes
+        .iter()
+        .filter(|lane| lane.aim.as_ref().is_some_and(|aim| aim.outcome.is_ok()))
+        .count();
+    let mut facts = vec![
+        ("frames", frames.to_string()),
+        ("tick", session.world().tick().to_string()),
+        ("scene", session.scene().name().to_string()),
+        ("lanes", integrators.join(",")),
+        ("aims", fired.to_string()),
+    ];
+    if let Some(verdict) = session.replay_verdict() {
+        facts.push(("replay", verdict.line()));
     }
+    facts
 }
 
 /// Two views of the texture a frame draws into (the same view twice where the adapter cannot

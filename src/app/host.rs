@@ -1,11 +1,14 @@
 //! What the window runs on: the winit window, its GPU surface and renderer, and egui.
 
+use std::cell::RefCell;
+use std::rc::Rc;
 use std::sync::Arc;
 
+use winit::event_loop::ActiveEventLoop;
 use winit::window::Window;
 
 use super::surface::WindowGpu;
-#[cfg(target_arch = "wasm32")]
+use crate::platform;
 use crate::render::GpuError;
 
 /// The window and what draws into it. The window is made on the first `resumed` and kept; the
@@ -19,10 +22,9 @@ pub(super) struct Host {
     pub(super) egui: egui::Context,
     /// egui's link to the window's events, once opened.
     pub(super) egui_state: Option<egui_winit::State>,
-    /// In a browser the device arrives later, from a future: it lands here, and the App takes
-    /// it ([`Host::take_opened`]).
-    #[cfg(target_arch = "wasm32")]
-    opened: std::rc::Rc<std::cell::RefCell<Option<Result<WindowGpu, GpuError>>>>,
+    /// The device opened for the window (or why not), until the App takes it
+    /// ([`Host::take_opened`]): at once on the desktop, later in a browser.
+    opened: Rc<RefCell<Option<Result<WindowGpu, GpuError>>>>,
 }
 
 impl Host {
@@ -33,32 +35,26 @@ impl Host {
             gfx: None,
             egui: egui::Context::default(),
             egui_state: None,
-            #[cfg(target_arch = "wasm32")]
             opened: Default::default(),
         }
     }
 
-    /// Starts opening a device for `window` in a browser; [`Host::take_opened`] has it once the
-    /// browser answers (WebGPU, or WebGL2 where it has none), and the window is asked to redraw
-    /// then so the loop wakes for it.
-    #[cfg(target_arch = "wasm32")]
-    pub(super) fn open_in_browser(
-        &mut self,
-        event_loop: &winit::event_loop::ActiveEventLoop,
-        window: Arc<Window>,
-    ) {
+    /// Opens a device for `window`; [`Host::take_opened`] has it (or why not) once the GPU has
+    /// answered: before this returns on the desktop, which blocks on it; later in a browser
+    /// (WebGPU, or WebGL2 where it has none), which then asks the window to redraw so the loop
+    /// wakes for it.
+    pub(super) fn open(&mut self, event_loop: &ActiveEventLoop, window: Arc<Window>) {
         let slot = self.opened.clone();
         let display = event_loop.owned_display_handle();
         self.window = Some(window.clone());
-        wasm_bindgen_futures::spawn_local(async move {
-            let gfx = WindowGpu::new_in_browser(display, window.clone()).await;
+        let opening = WindowGpu::open(display, window.clone());
+        platform::complete(opening, move |gfx| {
             *slot.borrow_mut() = Some(gfx);
             window.request_redraw();
         });
     }
 
-    /// The device the browser opened (or why it could not), once, when it has answered.
-    #[cfg(target_arch = "wasm32")]
+    /// The device opened (or why it could not), once, when the GPU has answered.
     pub(super) fn take_opened(&mut self) -> Option<Result<WindowGpu, GpuError>> {
         self.opened.borrow_mut().take()
     }

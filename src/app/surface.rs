@@ -15,10 +15,10 @@
 
 use std::sync::Arc;
 
-#[cfg(not(target_arch = "wasm32"))]
-use winit::event_loop::ActiveEventLoop;
+use winit::event_loop::OwnedDisplayHandle;
 use winit::window::Window;
 
+use crate::platform;
 use crate::render::{Gpu, GpuError, Renderer};
 
 /// Everything the window draws with.
@@ -38,30 +38,17 @@ pub struct WindowGpu {
 }
 
 impl WindowGpu {
-    /// Opens a device that can present to `window` and configures its surface.
-    #[cfg(not(target_arch = "wasm32"))]
-    pub fn new(event_loop: &ActiveEventLoop, window: Arc<Window>) -> Result<WindowGpu, GpuError> {
-        let display = Box::new(event_loop.owned_display_handle());
-        let descriptor = wgpu::InstanceDescriptor::new_with_display_handle_from_env(display);
-        let instance = wgpu::Instance::new(descriptor);
-        let surface = instance
-            .create_surface(window.clone())
-            .map_err(|e| GpuError::Surface(e.to_string()))?;
-        let gpu = Gpu::open(instance, Some(&surface))?;
-        WindowGpu::on(gpu, surface, window)
-    }
-
-    /// [`WindowGpu::new`] in a browser, where the GPU's answers are futures: WebGPU where the
-    /// browser has it, WebGL2 otherwise.
-    #[cfg(target_arch = "wasm32")]
-    pub async fn new_in_browser(
-        display: winit::event_loop::OwnedDisplayHandle,
+    /// Opens a device that can present to `window` and configures its surface. The GPU's
+    /// answers are futures: the desktop blocks on this one, a page spawns it
+    /// ([`platform::complete`]); in a browser the instance is WebGPU where the browser has it,
+    /// WebGL2 otherwise ([`platform::gpu_instance`]).
+    pub async fn open(
+        display: OwnedDisplayHandle,
         window: Arc<Window>,
     ) -> Result<WindowGpu, GpuError> {
-        let mut descriptor =
+        let descriptor =
             wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(display));
-        descriptor.backends = super::web::backends();
-        let instance = wgpu::util::new_instance_with_webgpu_detection(descriptor).await;
+        let instance = platform::gpu_instance(descriptor).await;
         let surface = instance
             .create_surface(window.clone())
             .map_err(|e| GpuError::Surface(e.to_string()))?;
@@ -227,22 +214,5 @@ pub fn pick_formats(
                 .or(formats.first().copied())?;
             Some((f, f))
         }
-    }
-}
-
-/// Keeps up to 64 MiB of freed memory at the top of a heap for reuse, instead of glibc's default
-/// (128 KiB): the software adapter (lavapipe) allocates and frees vertex buffers on its own
-/// thread every frame, and once a frame's meshes pass that size (the plots' do) glibc handed
-/// the top of that thread's heap back to the kernel (`madvise`) after every frame and the next
-/// frame faulted it in again: about 1 ms a frame here (strace: one `madvise` a frame; perf:
-/// page faults and unmapping in the frame's thread). Memory the window held at its busiest
-/// frame stays held; nothing else changes. glibc on Linux only; elsewhere nothing is done.
-/// Called once, as the window starts.
-pub fn keep_freed_heap() {
-    #[cfg(all(target_os = "linux", target_env = "gnu"))]
-    // SAFETY: `mallopt` only sets a tuning parameter of the allocator; glibc serialises it
-    // against allocations in other threads.
-    unsafe {
-        libc::mallopt(libc::M_TRIM_THRESHOLD, 64 << 20);
     }
 }

@@ -1,7 +1,7 @@
 //! Frame timing: where a frame's delta comes from, how long frames take, and what the panel and
 //! the closing summary say about it.
 
-use web_time::Instant;
+use crate::platform::Instant;
 
 use winit::window::Window;
 

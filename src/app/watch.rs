@@ -8,96 +8,40 @@
 //!
 //! A browser page cannot watch files: there [`SceneWatch::new`] refuses, and the panel says so.
 
-use std::path::{Path, PathBuf};
-use std::sync::mpsc::Receiver;
+use std::path::Path;
 use std::time::Duration;
 
-use web_time::Instant;
-
-#[cfg(not(target_arch = "wasm32"))]
-use notify::{RecommendedWatcher, RecursiveMode, Watcher};
-
-/// What the watcher sends: something happened to a file in the folder.
-#[cfg(not(target_arch = "wasm32"))]
-type FileEvent = notify::Result<notify::Event>;
-/// In a browser nothing is ever sent.
-#[cfg(target_arch = "wasm32")]
-type FileEvent = Result<BrowserEvent, ()>;
-
-/// The event a browser never sends (the watch is refused before it starts).
-#[cfg(target_arch = "wasm32")]
-pub struct BrowserEvent {
-    kind: BrowserKind,
-    paths: Vec<PathBuf>,
-}
-
-#[cfg(target_arch = "wasm32")]
-struct BrowserKind;
-
-#[cfg(target_arch = "wasm32")]
-impl BrowserKind {
-    fn is_access(&self) -> bool {
-        true
-    }
-}
+use crate::platform::{FolderWatch, Instant};
 
 /// Quiet time after the last change before the file is read.
 pub const SETTLE: Duration = Duration::from_millis(150);
 
 /// A watch on one scene file.
 pub struct SceneWatch {
-    path: PathBuf,
-    #[cfg(not(target_arch = "wasm32"))]
-    _watcher: RecommendedWatcher,
-    events: Receiver<FileEvent>,
+    /// The watch on the file's folder ([`crate::platform::FolderWatch`]).
+    folder: FolderWatch,
     changed_at: Option<Instant>,
 }
 
 impl SceneWatch {
-    /// Watches `path`'s folder for changes to `path`.
-    #[cfg(target_arch = "wasm32")]
-    pub fn new(_path: &Path) -> Result<SceneWatch, String> {
-        Err("a browser page cannot watch files; load the scene again to see a change".into())
-    }
-
-    /// Watches `path`'s folder for changes to `path`.
-    #[cfg(not(target_arch = "wasm32"))]
+    /// Watches `path`'s folder for changes to `path`; a page refuses, saying why.
     pub fn new(path: &Path) -> Result<SceneWatch, String> {
-        let path = path
-            .canonicalize()
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        let dir = path.parent().unwrap_or(Path::new("/")).to_path_buf();
-        let (tx, events) = std::sync::mpsc::channel();
-        let mut watcher = notify::recommended_watcher(move |event| {
-            let _ = tx.send(event);
-        })
-        .map_err(|e| format!("cannot watch {}: {e}", dir.display()))?;
-        watcher
-            .watch(&dir, RecursiveMode::NonRecursive)
-            .map_err(|e| format!("cannot watch {}: {e}", dir.display()))?;
         Ok(SceneWatch {
-            path,
-            _watcher: watcher,
-            events,
+            folder: FolderWatch::new(path)?,
             changed_at: None,
         })
     }
 
     /// The watched file.
     pub fn path(&self) -> &Path {
-        &self.path
+        self.folder.path()
     }
 
     /// Whether the file changed and has been quiet since for [`SETTLE`] (then it should be
     /// reloaded now). Never blocks.
     pub fn poll(&mut self, now: Instant) -> bool {
-        while let Ok(event) = self.events.try_recv() {
-            let touches = event.is_ok_and(|e| {
-                !e.kind.is_access() && e.paths.iter().any(|p| same_file(p, &self.path))
-            });
-            if touches {
-                self.changed_at = Some(now);
-            }
+        if self.folder.touched() {
+            self.changed_at = Some(now);
         }
         match self.changed_at {
             Some(t) if now.duration_since(t) >= SETTLE => {
@@ -107,8 +51,4 @@ impl SceneWatch {
             _ => false,
         }
     }
-}
-
-fn same_file(a: &Path, b: &Path) -> bool {
-    a == b || a.canonicalize().is_ok_and(|a| a == b)
 }

@@ -241,7 +241,9 @@ impl DisplayArgs {
 /// Every window error is the environment's (exit code 4).
 pub fn window_failure(e: AppError) -> Failure {
     match e {
-        AppError::NoDisplay(_) | AppError::Gpu(_) | AppError::Io(_) => fail(EXIT_ENVIRONMENT, e),
+        AppError::NoDisplay(_) | AppError::Gpu(_) | AppError::Io(_) | AppError::Recording(_) => {
+            fail(EXIT_ENVIRONMENT, e)
+        }
     }
 }
 

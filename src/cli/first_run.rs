@@ -70,7 +70,7 @@ fn exact(scene: &Scene, t: f64) -> Result<volley::BodyState, Failure> {
         p: body.position,
         mv: body.mass * body.velocity,
     };
-    closed_form(&scene.forces(), start, body.mass, t)
+    closed_form(scene.forces(), start, body.mass, t)
         .ok_or_else(|| fail(EXIT_ENVIRONMENT, "seed: no closed form"))
 }
 

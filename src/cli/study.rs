@@ -116,7 +116,7 @@ fn config(args: &StudyArgs, scene: &scene::Scene) -> Result<StudyConfig, Failure
         config.integrators = if names.len() == 1 && names[0].eq_ignore_ascii_case("all") {
             Integrator::ALL
                 .into_iter()
-                .filter(|i| scene::check_integrator(*i, &scene.forces()).is_ok())
+                .filter(|i| scene::check_integrator(*i, scene.forces()).is_ok())
                 .collect()
         } else {
             names
@@ -127,7 +127,7 @@ fn config(args: &StudyArgs, scene: &scene::Scene) -> Result<StudyConfig, Failure
     } else {
         config
             .integrators
-            .retain(|i| scene::check_integrator(*i, &scene.forces()).is_ok());
+            .retain(|i| scene::check_integrator(*i, scene.forces()).is_ok());
     }
     if let Some(dts) = &args.dt {
         config.dts = dts.clone();
@@ -181,7 +181,7 @@ pub fn run(args: &StudyArgs) -> Result<(), Failure> {
         bar.set_position(p.done);
         bar.set_message(p.message);
     };
-    let stem = stem_of(&scene.name());
+    let stem = stem_of(scene.name());
     let dir = out_dir(args.out.as_ref(), &stem);
     if let Some(part) = part {
         let result = study::run_shard(&scene, &config, part, &mut progress);

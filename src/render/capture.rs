@@ -124,8 +124,6 @@ pub fn view_in(texture: &wgpu::Texture, format: wgpu::TextureFormat) -> Option<w
 /// A texture to render into and read back.
 #[derive(Debug)]
 pub struct OffscreenTarget {
-    // Read back only on the desktop (a page cannot block on the GPU).
-    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     texture: wgpu::Texture,
     view: wgpu::TextureView,
     /// A view in the scene's format when it differs from the texture's (see [`Self::with_views`]).
@@ -188,9 +186,14 @@ impl OffscreenTarget {
         self.size
     }
 
-    /// Copies the pixels back to the CPU (blocking until the GPU is done), as RGBA.
-    #[cfg(not(target_arch = "wasm32"))]
+    /// Copies the pixels back to the CPU (blocking until the GPU is done), as RGBA; refused in
+    /// a page, which cannot block ([`crate::platform::CAN_BLOCK`]).
     pub fn read(&self, gpu: &Gpu) -> Result<Image, CaptureError> {
+        if !crate::platform::CAN_BLOCK {
+            return Err(CaptureError(
+                "reading the frame back: a page cannot block on the GPU".into(),
+            ));
+        }
         let (buffer, row) = self.copy_back(gpu);
         let (tx, rx) = std::sync::mpsc::channel();
         buffer.map_async(wgpu::MapMode::Read, .., move |r| {
@@ -204,7 +207,6 @@ impl OffscreenTarget {
     }
 
     /// Copies the texture into a mappable buffer; its rows are `row` bytes apart.
-    #[cfg(not(target_arch = "wasm32"))]
     fn copy_back(&self, gpu: &Gpu) -> (wgpu::Buffer, u32) {
         let (w, h) = self.size;
         let row = (w * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
@@ -231,14 +233,12 @@ impl OffscreenTarget {
         (buffer, row)
     }
 
-    #[cfg(not(target_arch = "wasm32"))]
     fn image_from(&self, buffer: &wgpu::Buffer, row: u32) -> Result<Image, CaptureError> {
         image_of(buffer, row, self.size, self.texture.format())
     }
 }
 
 /// The RGBA image in a mapped readback `buffer` of a texture of `size` and `format`.
-#[cfg(not(target_arch = "wasm32"))]
 fn image_of(
     buffer: &wgpu::Buffer,
     row: u32,

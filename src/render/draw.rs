@@ -4,6 +4,13 @@
 //! [`TickHistory`] and the loop's alpha; the renderer uploads it into buffers it keeps. Positions
 //! are converted to `f32` relative to the render origin here and nowhere else. Colours are sRGB
 //! bytes; the shaders convert them to linear light.
+//!
+//! The bodies, their markers, vectors and judder ghosts are built here; the scene's fixed parts
+//! (targets, walls, the launcher) in `draw/scene_parts.rs` and the trajectories drawn ahead
+//! (ghost paths, the launcher's next shot) in `draw/paths.rs`.
+
+mod paths;
+mod scene_parts;
 
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
@@ -12,6 +19,8 @@ use crate::integrate::Integrator;
 use crate::render::history::{DrawAt, TickHistory};
 use crate::scene::Launcher;
 use crate::world::World;
+pub use paths::{DASH, PATH_TOLERANCE, horizon, launcher_shot, path_tolerance};
+pub use scene_parts::clip_above;
 
 /// An sRGB colour with alpha, 0-255 each.
 pub type Rgba = [u8; 4];
@@ -345,89 +354,6 @@ impl DrawList {
         }
     }
 
-    fn scene_parts(&mut self, world: &World, options: &DrawOptions) {
-        let o = options.origin;
-        let since_start = world.tick() as f64 * world.dt();
-        for t in &world.contacts().targets {
-            self.translucent.push(SphereInstance {
-                center: rel(t.center_at(since_start), o),
-                radius: t.radius as f32,
-                colour: TARGET,
-            });
-        }
-        for w in &world.contacts().walls {
-            self.wall(w.point, w.normal, w.thickness, world, options);
-        }
-        let l = options.aim.unwrap_or(*world.launcher());
-        self.solid.push(SphereInstance {
-            center: rel(l.position, o),
-            radius: (2.0 * l.radius).max(0.01 * options.scale) as f32,
-            colour: LAUNCHER,
-        });
-        let dir = l.velocity().try_normalize().unwrap_or(DVec3::Z);
-        self.line(
-            l.position,
-            l.position + 0.06 * options.scale * dir,
-            LAUNCHER,
-            o,
-        );
-        self.launcher_shot(world, options);
-    }
-
-    /// The closed-form path of the next shot from the launcher, dashed, where one exists.
-    fn launcher_shot(&mut self, world: &World, options: &DrawOptions) {
-        let shot = launcher_shot(world, &options.aim.unwrap_or(*world.launcher()));
-        let floor = world.contacts().ground.map(|g| g.height);
-        let mut points = std::mem::take(&mut self.scratch);
-        shot.trajectory(
-            horizon(world),
-            world.dt(),
-            floor,
-            path_tolerance(options),
-            &mut points,
-        );
-        let mut faint = LAUNCHER;
-        faint[3] = 90;
-        self.dashed(&points, faint, options);
-        self.scratch = points;
-    }
-
-    fn ghosts(&mut self, lane: &Lane<'_>, options: &DrawOptions) {
-        let world = lane.world;
-        let dt = world.dt();
-        let floor = world.contacts().ground.map(|g| g.height);
-        let drawn = lane.history.drawn_ticks(world, lane.at);
-        let mut points = std::mem::take(&mut self.scratch);
-        let bodies = world.bodies();
-        for &id in bodies.ids().iter().take(GHOST_BODIES) {
-            let Some(r) = lane.history.references.get(id) else {
-                continue;
-            };
-            if !r.has_closed_form {
-                continue;
-            }
-            r.trajectory(
-                horizon(world),
-                dt,
-                floor,
-                path_tolerance(options),
-                &mut points,
-            );
-            self.dashed(&points, GHOST, options);
-            let t = (drawn - r.spawn_tick as f64).max(0.0) * dt;
-            let ended = r.ends_after(dt).is_some_and(|end| t > end);
-            if let (false, Some(s)) = (ended, r.exact_at(t)) {
-                let i = bodies.index_of(id).unwrap_or(0);
-                self.translucent.push(SphereInstance {
-                    center: rel(s.p, options.origin),
-                    radius: bodies.radii()[i] as f32,
-                    colour: GHOST,
-                });
-            }
-        }
-        self.scratch = points;
-    }
-
     fn line(&mut self, a: DVec3, b: DVec3, colour: Rgba, origin: DVec3) {
         for p in [a, b] {
             self.lines.push(ColouredVertex {
@@ -436,157 +362,11 @@ impl DrawList {
             });
         }
     }
-
-    /// A polyline drawn dashed: dashes and gaps of [`DASH`] times the scene's scale each,
-    /// measured along the line, so the pattern does not depend on how finely it was sampled.
-    fn dashed(&mut self, points: &[(f64, DVec3)], colour: Rgba, options: &DrawOptions) {
-        let dash = DASH * options.scale;
-        // Length still to go in the current dash or gap, and whether it is a dash.
-        let (mut left, mut on) = (dash, true);
-        for pair in points.windows(2) {
-            let (mut a, b) = (pair[0].1, pair[1].1);
-            let mut length = (b - a).length();
-            while length > 0.0 {
-                let step = left.min(length);
-                let next = a + (b - a) * (step / length);
-                if on {
-                    self.line(a, next, colour, options.origin);
-                }
-                (a, length, left) = (next, length - step, left - step);
-                if left <= 0.0 {
-                    (left, on) = (dash, !on);
-                }
-            }
-        }
-    }
-
-    /// A wall as a translucent square slab around its point (both faces, with an outline), cut
-    /// off at the ground: the ground is solid, nothing of a wall shows below it.
-    fn wall(
-        &mut self,
-        point: DVec3,
-        normal: DVec3,
-        thickness: f64,
-        world: &World,
-        o: &DrawOptions,
-    ) {
-        let helper = if normal.z.abs() < 0.9 {
-            DVec3::Z
-        } else {
-            DVec3::X
-        };
-        let u = normal.cross(helper).normalize() * o.scale;
-        let v = normal.cross(u).normalize() * o.scale;
-        let floor = world.contacts().ground.map(|g| g.height);
-        for side in [-0.5, 0.5] {
-            let c = point + side * thickness * normal;
-            let square = [c - u - v, c + u - v, c + u + v, c - u + v];
-            let face = match floor {
-                Some(z) => clip_above(&square, z),
-                None => square.to_vec(),
-            };
-            for k in 1..face.len().saturating_sub(1) {
-                for p in [face[0], face[k], face[k + 1]] {
-                    self.surfaces.push(ColouredVertex {
-                        position: rel(p, o.origin),
-                        colour: WALL,
-                    });
-                }
-            }
-            for k in 0..face.len() {
-                self.line(face[k], face[(k + 1) % face.len()], WALL, o.origin);
-            }
-        }
-    }
-}
-
-/// The part of a convex polygon at or above height `z` (Sutherland-Hodgman against one plane).
-pub fn clip_above(polygon: &[DVec3], z: f64) -> Vec<DVec3> {
-    let mut out = Vec::with_capacity(polygon.len() + 1);
-    for (k, &a) in polygon.iter().enumerate() {
-        let b = polygon[(k + 1) % polygon.len()];
-        if a.z >= z {
-            out.push(a);
-        }
-        if (a.z >= z) != (b.z >= z) {
-            let t = (z - a.z) / (b.z - a.z);
-            out.push(a + t * (b - a));
-        }
-    }
-    out
-}
-
-/// How far ahead ghost trajectories reach: the scene's duration, at least 1 s.
-/// The shot `launcher` would fire now, as a closed-form reference from its muzzle: the
-/// launcher's predicted path ([`Reference::trajectory`] of it, over [`horizon`]).
-pub fn launcher_shot(world: &World, l: &Launcher) -> crate::render::reference::Reference {
-    crate::render::reference::Reference {
-        id: crate::world::BodyId(u64::MAX),
-        spawn_tick: world.tick(),
-        spawn_time: world.time(),
-        state: crate::integrate::BodyState {
-            p: l.position,
-            mv: l.mass * l.velocity(),
-        },
-        mass: l.mass,
-        launch: crate::integrate::Launch {
-            time: world.time(),
-            mass: l.mass,
-            spin: l.spin_at(l.azimuth_deg),
-        },
-        forces: world.forces().clone(),
-        has_closed_form: true,
-        numeric: false,
-        cache: std::cell::Cell::new(None),
-        end: None,
-    }
-}
-
-/// How long a drawn trajectory (a ghost, the launcher's predicted shot) runs: the scene's
-/// duration, at least 1 s.
-pub fn horizon(world: &World) -> f64 {
-    world.scene().duration().max(1.0)
-}
-
-/// How far a drawn trajectory's chord may leave the path, as a fraction of the scene's scale
-/// (the radius the default camera frames). The default view draws that radius about 360 px
-/// across in a window 800 px tall, so a thousandth of it is a third of a pixel there, and under
-/// a pixel for a point as near the eye as the scene's edge.
-pub const PATH_TOLERANCE: f64 = 1e-3;
-
-/// Length of a dash and of a gap in dashed trajectories, as a fraction of the scene's scale.
-pub const DASH: f64 = 0.025;
-
-/// [`PATH_TOLERANCE`] in metres for `options`.
-pub fn path_tolerance(options: &DrawOptions) -> f64 {
-    PATH_TOLERANCE * options.scale
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn clipping_a_square_at_its_middle_keeps_the_upper_half() {
-        let square = [
-            DVec3::new(0.0, 0.0, -1.0),
-            DVec3::new(1.0, 0.0, -1.0),
-            DVec3::new(1.0, 0.0, 1.0),
-            DVec3::new(0.0, 0.0, 1.0),
-        ];
-        let upper = clip_above(&square, 0.0);
-        assert_eq!(
-            upper,
-            [
-                DVec3::new(1.0, 0.0, 0.0),
-                DVec3::new(1.0, 0.0, 1.0),
-                DVec3::new(0.0, 0.0, 1.0),
-                DVec3::new(0.0, 0.0, 0.0),
-            ]
-        );
-        assert!(clip_above(&square, 2.0).is_empty());
-        assert_eq!(clip_above(&square, -1.0).len(), 4);
-    }
 
     #[test]
     fn a_queued_aim_turns_the_launcher_before_the_world_does() {

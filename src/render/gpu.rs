@@ -43,21 +43,26 @@ impl std::fmt::Display for GpuError {
 impl std::error::Error for GpuError {}
 
 impl Gpu {
-    /// A device with no window, for offscreen frames and tests.
-    #[cfg(not(target_arch = "wasm32"))]
+    /// A device with no window, for offscreen frames and tests (the desktop's: it blocks until
+    /// the GPU has answered).
     pub fn headless() -> Result<Gpu, GpuError> {
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         Gpu::open(instance, None)
     }
 
-    /// A device on `instance` that can present to `surface` (if given).
-    #[cfg(not(target_arch = "wasm32"))]
+    /// A device on `instance` that can present to `surface` (if given), blocking until the GPU
+    /// has answered; a page, which cannot block ([`crate::platform::CAN_BLOCK`]), gets an error
+    /// naming [`Gpu::open_async`].
     pub fn open(
         instance: wgpu::Instance,
         surface: Option<&wgpu::Surface<'_>>,
     ) -> Result<Gpu, GpuError> {
-        pollster::block_on(Gpu::open_async(instance, surface))
+        crate::platform::block_on(Gpu::open_async(instance, surface)).unwrap_or_else(|| {
+            Err(GpuError::NoAdapter(
+                "a page cannot block on the GPU: open it with Gpu::open_async".into(),
+            ))
+        })
     }
 
     /// [`Gpu::open`] as a future: the browser build awaits it (a page cannot block on the GPU),
@@ -75,13 +80,14 @@ impl Gpu {
             .request_adapter(&options)
             .await
             .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
-        // WebGL2 has fewer of everything than the downlevel defaults ask for.
-        let base =
-            if adapter.get_info().backend == wgpu::Backend::Gl && cfg!(target_arch = "wasm32") {
-                wgpu::Limits::downlevel_webgl2_defaults()
-            } else {
-                wgpu::Limits::downlevel_defaults()
-            };
+        // WebGL2 (a GL adapter in a browser) has fewer of everything than the downlevel
+        // defaults ask for.
+        let webgl2 = adapter.get_info().backend == wgpu::Backend::Gl && crate::platform::IN_BROWSER;
+        let base = if webgl2 {
+            wgpu::Limits::downlevel_webgl2_defaults()
+        } else {
+            wgpu::Limits::downlevel_defaults()
+        };
         let descriptor = wgpu::DeviceDescriptor {
             label: Some("volley"),
             required_limits: base.using_resolution(adapter.limits()),

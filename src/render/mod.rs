@@ -14,7 +14,6 @@ pub mod bounds;
 pub mod camera;
 pub mod capture;
 pub mod draw;
-#[cfg(not(target_arch = "wasm32"))]
 pub mod frame_writer;
 pub mod gpu;
 pub mod history;
@@ -29,7 +28,6 @@ pub use bounds::SceneBounds;
 pub use camera::{OrbitCamera, Viewport};
 pub use capture::{CaptureError, Image, OFFSCREEN_FORMAT, OffscreenTarget};
 pub use draw::{DrawList, DrawOptions, JudderMark, Lane, integrator_colour};
-#[cfg(not(target_arch = "wasm32"))]
 pub use frame_writer::{FrameWriter, write_picture};
 pub use gpu::{Gpu, GpuError};
 pub use history::{DrawAt, TickHistory};

@@ -91,7 +91,7 @@ fn force_evaluations_are_counted_per_stage() {
     ];
     let r = study(&scene, &integrators, &[1.0 / 60.0, 1.0 / 120.0]);
     for p in &r.points {
-        let per_step = p.integrator.evals_per_step(&scene.forces());
+        let per_step = p.integrator.evals_per_step(scene.forces());
         assert_eq!(p.force_evals, p.ticks * per_step, "{}", p.integrator);
         let expected = per_step as f64 / p.dt;
         assert!(

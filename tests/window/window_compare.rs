@@ -200,7 +200,8 @@ fn a_compare_lane_the_scene_refuses_is_left_out_and_named() {
     assert_eq!(running, vec![Integrator::Rk4]);
     let refusal = s
         .set_compare(vec![Integrator::Exact, Integrator::Rk4])
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
     assert!(
         refusal.starts_with("compare mode leaves out exact: "),
         "{refusal}"

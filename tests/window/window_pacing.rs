@@ -229,7 +229,7 @@ fn the_policy_takes_the_displays_refresh_and_survives_a_restart() {
             refresh: Duration::from_nanos(16_666_667)
         }
     );
-    let e = s.set_policy_named("fastest").unwrap_err();
+    let e = s.set_policy_named("fastest").unwrap_err().to_string();
     assert!(e.starts_with("loop policy: unknown `fastest`"), "{e}");
 }
 

@@ -182,17 +182,22 @@ fn recording_is_refused_while_recording_diverged_or_replaying() {
     session.start_recording(Some(dir.join("a.vrec"))).unwrap();
     let e = session
         .start_recording(Some(dir.join("b.vrec")))
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
     assert!(e.starts_with("already recording to"), "{e}");
     session.stop_recording("stopped");
     let mut stiff = Session::new(stiff_spring(), Path::new("stiff.ron"), Vec::new());
     stiff.frame(Duration::from_millis(100));
-    let e = stiff.start_recording(Some(dir.join("c.vrec"))).unwrap_err();
+    let e = stiff
+        .start_recording(Some(dir.join("c.vrec")))
+        .unwrap_err()
+        .to_string();
     assert!(e.ends_with("reset before recording"), "{e}");
     let mut replaying = Session::for_replay(&dir.join("a.vrec"), None).unwrap();
     let e = replaying
         .start_recording(Some(dir.join("d.vrec")))
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
     assert!(e.starts_with("replaying"), "{e}");
     assert!(!dir.join("c.vrec").exists() && !dir.join("d.vrec").exists());
 }
@@ -210,7 +215,7 @@ fn the_default_file_is_named_after_the_scene_and_never_overwritten() {
     assert_eq!(std::fs::read(&first).unwrap(), b"taken");
     // The session's own toggle uses the same names, in its recordings folder.
     let mut session = coverage();
-    session.recordings_dir = dir.clone();
+    session.set_recordings_dir(dir.clone());
     assert_eq!(session.toggle_recording(), Ok(()));
     let path = session.recording().unwrap().path().to_path_buf();
     assert_eq!(path.parent().unwrap(), dir.join("recordings"));
@@ -227,12 +232,12 @@ fn a_default_folder_that_cannot_be_used_is_an_error_in_the_panel_not_a_hang() {
     let dir = support::scratch_dir("default-blocked");
     std::fs::write(dir.join("recordings"), b"a file, not a folder").unwrap();
     let mut session = coverage();
-    session.recordings_dir = dir.clone();
+    session.set_recordings_dir(dir.clone());
     let started = std::time::Instant::now();
     let refused = session.toggle_recording();
     assert!(started.elapsed() < Duration::from_secs(5));
     assert!(session.recording().is_none());
-    let e = refused.expect_err("the refusal is shown");
+    let e = refused.expect_err("the refusal is shown").to_string();
     assert!(
         e.contains("recordings") && e.contains("cannot create its folder"),
         "{e}"
@@ -243,7 +248,7 @@ fn a_default_folder_that_cannot_be_used_is_an_error_in_the_panel_not_a_hang() {
     for n in 1..=DEFAULT_NAME_TRIES {
         std::fs::write(default_path(&full, "seed", 9, n), b"taken").unwrap();
     }
-    let e = create_default(&full, "seed", 9).unwrap_err();
+    let e = create_default(&full, "seed", 9).unwrap_err().to_string();
     assert!(e.contains("every name is taken"), "{e}");
     let after = default_path(&full, "seed", 9, DEFAULT_NAME_TRIES + 1);
     assert!(!after.exists());
@@ -314,13 +319,13 @@ fn the_panels_refusal_stays_until_a_replay_opens_again() {
     let mut session = Session::for_replay(&file, None).unwrap();
     let mut panel = PanelState::new(&session, Vec::new());
     assert_eq!(panel.refusal(&session), None);
-    let fire = session.push(Command::Fire).unwrap_err();
+    let fire = session.push(Command::Fire).unwrap_err().to_string();
     panel.refuse(&session, fire.clone());
     assert_eq!(session.frame(HZ60), None);
     assert_eq!(panel.refusal(&session), Some(fire.as_str()));
     session.seek(30).unwrap();
     assert_eq!(panel.refusal(&session), None);
-    let reset = session.reset().unwrap_err();
+    let reset = session.reset().unwrap_err().to_string();
     assert!(reset.starts_with("replaying: reset is off"), "{reset}");
     panel.refuse(&session, reset.clone());
     session.seek(30).unwrap();
@@ -335,7 +340,7 @@ fn while_replaying_commands_are_refused_and_going_live_takes_over_from_that_tick
         session.frame(HZ60);
     }
     let bodies = session.world().bodies().len();
-    let e = session.push(Command::Fire).unwrap_err();
+    let e = session.push(Command::Fire).unwrap_err().to_string();
     assert!(e.starts_with("replaying"), "{e}");
     assert_eq!(session.lanes()[0].pending(), 0);
     assert!(session.set_dt(0.02).is_err());

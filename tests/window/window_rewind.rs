@@ -93,7 +93,7 @@ fn a_new_command_after_a_seek_back_drops_the_future_and_says_so() {
 fn moving_the_timeline_ends_a_running_recording_at_its_last_tick() {
     let dir = support::scratch_dir("moving_the_timeline_ends_a_running_recording");
     let mut s = session("drag", Vec::new());
-    s.recordings_dir = dir.clone();
+    s.set_recordings_dir(dir.clone());
     s.start_recording(Some(dir.join("run.vrec"))).unwrap();
     run_recording_hashes(&mut s, 40);
     s.seek(10).unwrap();

@@ -228,7 +228,7 @@ pub fn check_at(scene: &Scene, dt: f64, substeps: u32, chosen: Integrator) -> St
         .collect();
     let allowed = Integrator::ALL
         .into_iter()
-        .filter(|i| volley_sim::internals::scene::check_integrator(*i, &scene.forces()).is_ok());
+        .filter(|i| volley_sim::internals::scene::check_integrator(*i, scene.forces()).is_ok());
     let verdicts = allowed
         .map(|integrator| verdict(integrator, &bodies, h, dt))
         .collect();

@@ -310,7 +310,7 @@ pub fn validate(scene: &Scene, config: &StudyConfig) -> Result<(), StudyError> {
         scene.clone().set_dt(dt).map_err(StudyError::Value)?;
     }
     for &i in &config.integrators {
-        volley_sim::internals::scene::check_integrator(i, &scene.forces())
+        volley_sim::internals::scene::check_integrator(i, scene.forces())
             .map_err(StudyError::Integrator)?;
     }
     if !(config.until.is_finite() && config.until > scene.start_time()) {

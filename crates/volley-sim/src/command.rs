@@ -212,6 +212,7 @@ impl World {
                 check_integrator(self.state.integrator, &candidate)
                     .map_err(CommandError::Integrator)?;
                 self.state.forces = candidate;
+                self.facts = crate::world::ForceFacts::of(&self.state.forces);
             }
             Command::SetIntegrator(integrator) => {
                 check_integrator(integrator, &self.state.forces)
@@ -221,6 +222,7 @@ impl World {
             Command::Reset => {
                 self.clear_bodies();
                 self.state.forces = self.params.declared.clone();
+                self.facts = crate::world::ForceFacts::of(&self.state.forces);
                 self.state.launcher = self.scene.launcher;
                 self.state.rng = crate::world::SplitMix64(self.scene.seed);
                 self.populate();

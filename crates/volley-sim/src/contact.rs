@@ -165,19 +165,18 @@ pub(crate) fn needs_resolution(
     if contacts.has_levels() && level_contact::may_reach_levels(contacts, r, inv_m, ctx.h, s0, s1) {
         return true;
     }
+    // A closest approach inside the step (the approach rate turns from < 0 to >= 0), or an
+    // entry into the target's reach: each test taken only as far as it can still pass.
     for t in &contacts.targets {
         let (c0, c1) = (
             t.center_at(ctx.since_start),
             t.center_at(ctx.since_start + ctx.h),
         );
-        let (g0, g1) = (
-            approach_rate(t, c0, s0, inv_m),
-            approach_rate(t, c1, s1, inv_m),
-        );
+        if approach_rate(t, c0, s0, inv_m) < 0.0 && approach_rate(t, c1, s1, inv_m) >= 0.0 {
+            return true;
+        }
         let reach2 = (t.radius + r) * (t.radius + r);
-        let entered =
-            (s0.p - c0).length_squared() > reach2 && (s1.p - c1).length_squared() <= reach2;
-        if (g0 < 0.0 && g1 >= 0.0) || entered {
+        if (s1.p - c1).length_squared() <= reach2 && (s0.p - c0).length_squared() > reach2 {
             return true;
         }
     }
@@ -208,8 +207,29 @@ pub(crate) fn resolve<S: Scheme, const EVENTS: bool>(
 ) -> (BodyState, DVec3, u64) {
     match ctx.contacts.detection {
         Detection::Swept => {
-            let (s, c, n) =
-                resolve_swept::<S, EVENTS>(scheme, ctx, body, (s0, c0), (s1, c1), out, event_evals);
+            // Level surfaces' work compiled in only for scenes with levels: a scene of planes
+            // steps as it did before levels existed.
+            let (s, c, n) = if ctx.contacts.has_levels() {
+                resolve_swept::<S, true, EVENTS>(
+                    scheme,
+                    ctx,
+                    body,
+                    (s0, c0),
+                    (s1, c1),
+                    out,
+                    event_evals,
+                )
+            } else {
+                resolve_swept::<S, false, EVENTS>(
+                    scheme,
+                    ctx,
+                    body,
+                    (s0, c0),
+                    (s1, c1),
+                    out,
+                    event_evals,
+                )
+            };
             if n > MAX_CONTACT_EVALS {
                 return (SPENT, c, n);
             }
@@ -287,7 +307,7 @@ pub(crate) fn events_on_dense_step<S: Scheme>(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn resolve_swept<S: Scheme, const EVENTS: bool>(
+fn resolve_swept<S: Scheme, const LEVELS: bool, const EVENTS: bool>(
     scheme: &S,
     ctx: &StepContext,
     body: Particle,
@@ -309,7 +329,7 @@ fn resolve_swept<S: Scheme, const EVENTS: bool>(
         (s, c)
     };
     // The level triangles near the step, gathered once: every query of the step tests these.
-    let cands = ctx.contacts.has_levels().then(|| {
+    let cands = LEVELS.then(|| {
         let r = level_contact::level_radius(body.r);
         let grow = 2.0 * r + roots::margin(&s, &end, body.w.inv, ctx.h);
         Candidates::gather(ctx.contacts, Aabb::of_segment(s.p, end.p, grow))
@@ -435,7 +455,7 @@ fn resolve_swept<S: Scheme, const EVENTS: bool>(
                     });
                 }
                 let at = (elapsed, remaining);
-                let (s, c) = settle::<S, EVENTS>(
+                let (s, c) = settle::<S, LEVELS, EVENTS>(
                     scheme,
                     ctx,
                     body,
@@ -451,7 +471,7 @@ fn resolve_swept<S: Scheme, const EVENTS: bool>(
         } else if -mv_n * body.w.inv <= ctx.rest_speed && tau == 0.0 {
             // Resting contact: slide along the surface for the rest of the step.
             let at = (elapsed, remaining);
-            let (s, c) = settle::<S, EVENTS>(
+            let (s, c) = settle::<S, LEVELS, EVENTS>(
                 scheme,
                 ctx,
                 body,
@@ -468,7 +488,7 @@ fn resolve_swept<S: Scheme, const EVENTS: bool>(
     }
     // Still bouncing after the cap (a body jittering in a corner): keep it outside every surface.
     let (mut s, mut c) = (end, end_c);
-    clamp_outside(ctx, body, &mut s, cands.as_ref());
+    clamp_outside::<LEVELS>(ctx, body, &mut s, cands.as_ref());
     if S::CARRIES_FORCE {
         c = scheme.start_carry(s, body.w, ctx.t0 + ctx.h);
         evals += 1; // the carried force: one evaluation
@@ -480,6 +500,7 @@ fn resolve_swept<S: Scheme, const EVENTS: bool>(
 /// `b`. The distance to a target's centre along the segment falls while `(p - c) . V < 0`, so
 /// its minimum is at the sign change of that rate (if inside the segment) or at an end.
 #[allow(clippy::too_many_arguments)]
+#[inline]
 fn targets_on_segment<S: Scheme>(
     scheme: &S,
     ctx: &StepContext,
@@ -520,17 +541,21 @@ fn targets_on_segment<S: Scheme>(
         };
         let tau_closest = tau_min.unwrap_or(if g1 < 0.0 { duration } else { 0.0 });
         let gap_min = gap(&closest, tau_closest);
-        let gap0 = gap(&a, 0.0);
-        if gap0 > 0.0 && gap_min <= 0.0 {
-            let end = tau_min.unwrap_or(duration);
-            let (tau_hit, _) =
-                bracketed_root(|tau| gap(&path(tau), tau), (0.0, gap0), (end, gap_min));
-            out.push(Event {
-                tick: ctx.tick,
-                time: ctx.t0 + elapsed + tau_hit,
-                body: body.id,
-                kind: EventKind::Hit { target: i as u32 },
-            });
+        // The start's gap only where the closest one touches (a body far from the target pays
+        // one distance).
+        if gap_min <= 0.0 {
+            let gap0 = gap(&a, 0.0);
+            if gap0 > 0.0 {
+                let end = tau_min.unwrap_or(duration);
+                let (tau_hit, _) =
+                    bracketed_root(|tau| gap(&path(tau), tau), (0.0, gap0), (end, gap_min));
+                out.push(Event {
+                    tick: ctx.tick,
+                    time: ctx.t0 + elapsed + tau_hit,
+                    body: body.id,
+                    kind: EventKind::Hit { target: i as u32 },
+                });
+            }
         }
         if let Some(tau) = tau_min {
             out.push(Event {

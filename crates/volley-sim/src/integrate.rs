@@ -350,7 +350,20 @@ pub(crate) fn visit<V: SchemeVisitor>(
     tolerance: f64,
     v: V,
 ) -> V::Out {
-    if let Some(field) = forces.constant_field() {
+    visit_with(integrator, forces, forces.constant_field(), tolerance, v)
+}
+
+/// [`visit`] with `forces.constant_field()` already worked out (a world keeps it:
+/// `world::ForceFacts`).
+#[inline(always)]
+pub(crate) fn visit_with<V: SchemeVisitor>(
+    integrator: Integrator,
+    forces: &Forces,
+    constant: Option<crate::forces::ConstantField>,
+    tolerance: f64,
+    v: V,
+) -> V::Out {
+    if let Some(field) = constant {
         return visit_model(integrator, &field, tolerance, v);
     }
     if let Some(field) = DragField::<false>::of(forces) {

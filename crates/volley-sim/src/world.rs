@@ -299,6 +299,36 @@ pub(crate) struct BatchBackup {
     pub(crate) carry: Vec3s,
 }
 
+/// What a tick asks of the active force terms, worked out once whenever they change (at build,
+/// a force command, a reset, a restore) instead of every tick: the fast-path model, whether a
+/// term reads the launch, may add energy, or is a motor. Never state: it follows from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ForceFacts {
+    /// The terms as a [`crate::forces::ConstantField`], if gravity and a constant force are all.
+    pub(crate) constant: Option<crate::forces::ConstantField>,
+    /// [`Forces::reads_launch`].
+    pub(crate) reads_launch: bool,
+    /// [`Forces::adds_energy`].
+    pub(crate) adds_energy: bool,
+    /// Whether a motor is declared.
+    pub(crate) motor: bool,
+    /// |g| (m/s^2), 0 without gravity: the contact stage's rest speed is `|g| h`.
+    pub(crate) gravity: f64,
+}
+
+impl ForceFacts {
+    /// The facts of `forces`.
+    pub(crate) fn of(forces: &Forces) -> ForceFacts {
+        ForceFacts {
+            constant: forces.constant_field(),
+            reads_launch: forces.reads_launch(),
+            adds_energy: forces.adds_energy(),
+            motor: forces.thrust.is_some(),
+            gravity: forces.gravity.map_or(0.0, DVec3::length),
+        }
+    }
+}
+
 /// One run: its [`State`], the [`Params`] it advances by, and the scratch buffers of the step.
 #[derive(Clone, Debug)]
 pub struct World {
@@ -318,6 +348,8 @@ pub struct World {
     /// Force evaluations the declared events' search has spent (not counted in
     /// [`World::force_evals`], which the stepping alone decides).
     pub(crate) event_evals: u64,
+    /// The active terms' facts ([`ForceFacts`]), kept with them.
+    pub(crate) facts: ForceFacts,
 }
 
 /// Whether a world steps on, or what stopped it.
@@ -366,6 +398,7 @@ impl World {
             threads: 1,
             stage: crate::step::Stage::Bare,
             event_evals: 0,
+            facts: ForceFacts::of(&scene.forces),
         };
         world.stage = crate::step::Stage::of(&world.params.contacts);
         world.state.tallies.run = vec![0; world.params.contacts.events.run_slots()];

@@ -446,8 +446,7 @@ pub fn write(dir: &Path, session: &Session) -> Result<(PathBuf, PathBuf), String
         std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
     }
     std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
-    let bytes =
-        crate::plot::live_png(&session.scene().name(), &lanes).map_err(|e| e.to_string())?;
+    let bytes = crate::plot::live_png(session.scene().name(), &lanes).map_err(|e| e.to_string())?;
     std::fs::write(&png, bytes).map_err(|e| format!("{}: {e}", png.display()))?;
     Ok((csv, png))
 }

@@ -69,7 +69,7 @@ fn recording(ui: &mut Ui, session: &Session, out: &mut Vec<Action>) {
         ui.colored_label(c, last.to_string());
         // A page keeps no file to replay: the recording was downloaded (open it again with
         // the page's file input).
-        if cfg!(not(target_arch = "wasm32")) && named_button(ui, "Replay it").clicked() {
+        if crate::platform::WRITES_FILES && named_button(ui, "Replay it").clicked() {
             out.push(Action::Replay(last.path.clone()));
         }
     }

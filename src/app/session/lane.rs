@@ -40,7 +40,7 @@ pub struct AimNote {
     /// The id the fired shot gets (the world's next id after the commands queued before it).
     pub body: crate::world::BodyId,
     /// The solution fired, or the solver's answer why there is none.
-    pub outcome: Result<crate::firing::Shot, String>,
+    pub outcome: Result<crate::firing::Shot, super::SessionError>,
 }
 
 impl Lane {

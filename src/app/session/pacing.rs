@@ -1,5 +1,9 @@
-//! The loop lab in the window: what the first lane's loop did with each frame, and what the
-//! frame showed against the exact motion at the moment it reached the screen.
+//! The loop lab in the window: the loop policy every lane's clock runs (and the refresh it is
+//! given), how every lane is drawn, what the first lane's loop did with each frame, and what
+//! the frame showed against the exact motion at the moment it reached the screen.
+//!
+//! A policy decides how many ticks a frame runs and a draw mode where a body is drawn between
+//! ticks; neither changes what a tick computes, so neither is a command.
 //!
 //! Each frame `PacingLog::record` keeps the ticks the frame ran, the draw modes' display
 //! errors for the measured body, and the drawn and exact positions for the judder ghosts, over
@@ -16,12 +20,13 @@ use std::time::Duration;
 
 use glam::DVec3;
 
-use crate::app::display::Shown;
+use crate::app::display::{DEFAULT_REFRESH, Shown};
+use crate::clock::LoopPolicy;
 use crate::pacing::{DrawMode, Lead};
 use crate::render::{DrawAt, JudderMark};
 use crate::world::BodyId;
 
-use super::Lane;
+use super::{Lane, Session, SessionError};
 
 /// Frames the log keeps: 10 s at 60 Hz.
 pub const PACING_FRAMES: usize = 600;
@@ -29,6 +34,91 @@ pub const PACING_FRAMES: usize = 600;
 pub const CADENCE_FRAMES: usize = 60;
 /// Frames the judder ghosts show.
 pub const JUDDER_FRAMES: usize = 12;
+
+/// The loop lab's settings, shared by every lane, and the first lane's last frames.
+#[derive(Clone, Debug)]
+pub(super) struct Pacing {
+    /// The loop policy of every lane's clock.
+    pub(super) policy: LoopPolicy,
+    /// The refresh interval the snapping and quantising policies are given.
+    pub(super) refresh: Duration,
+    /// How every lane is drawn between (or past) its ticks.
+    pub(super) draw: DrawMode,
+    /// The first lane's last frames, for the pacing view and the judder ghosts.
+    pub(super) log: PacingLog,
+}
+
+impl Default for Pacing {
+    /// The loop lab's choices ([`crate::pacing::DEFAULT_POLICY`], [`crate::pacing::DEFAULT_DRAW`])
+    /// on a display of [`DEFAULT_REFRESH`].
+    fn default() -> Pacing {
+        Pacing {
+            policy: crate::pacing::DEFAULT_POLICY.with_refresh(DEFAULT_REFRESH),
+            refresh: DEFAULT_REFRESH,
+            draw: crate::pacing::DEFAULT_DRAW,
+            log: PacingLog::default(),
+        }
+    }
+}
+
+impl Session {
+    /// Every lane's loop policy.
+    pub fn policy(&self) -> LoopPolicy {
+        self.pacing.policy
+    }
+
+    /// Gives every lane `policy` from the next frame (what the old one carried from frame to
+    /// frame is forgotten; the accumulator and the tick stay). A policy decides how many ticks
+    /// a frame runs, never what a tick computes, so it is not a command: a recording is the
+    /// same under any.
+    pub fn set_policy(&mut self, policy: LoopPolicy) {
+        self.pacing.policy = policy;
+        for lane in &mut self.lanes {
+            lane.sim.clock.set_policy(policy);
+        }
+    }
+
+    /// [`Session::set_policy`] by name ([`LoopPolicy::NAMES`]), with the session's refresh; an
+    /// unknown name is refused.
+    pub fn set_policy_named(&mut self, name: &str) -> Result<(), SessionError> {
+        let policy = LoopPolicy::from_name(name, self.pacing.refresh)
+            .ok_or_else(|| SessionError::UnknownPolicy(name.to_string()))?;
+        self.set_policy(policy);
+        Ok(())
+    }
+
+    /// The refresh interval the snapping and quantising policies are given.
+    pub fn refresh(&self) -> Duration {
+        self.pacing.refresh
+    }
+
+    /// Sets the refresh interval the game believes in (the emulated display's, or the
+    /// monitor's); the policy in use takes it.
+    pub fn set_refresh(&mut self, refresh: Duration) {
+        self.pacing.refresh = refresh;
+        self.set_policy(self.pacing.policy.with_refresh(refresh));
+    }
+
+    /// How every lane is drawn.
+    pub fn draw_mode(&self) -> DrawMode {
+        self.pacing.draw
+    }
+
+    /// Draws every lane with `mode` from the next frame.
+    pub fn set_draw_mode(&mut self, mode: DrawMode) {
+        self.pacing.draw = mode;
+    }
+
+    /// The first lane's last frames.
+    pub fn pacing(&self) -> &PacingLog {
+        &self.pacing.log
+    }
+
+    /// Measures body `i` (storage index in the first lane) in the pacing view.
+    pub fn set_pacing_body(&mut self, i: usize) {
+        self.pacing.log.body = i;
+    }
+}
 
 /// One frame as the pacing view plots it.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -13,11 +13,11 @@
 use std::fs::File;
 use std::io::ErrorKind;
 use std::path::{Path, PathBuf};
-use web_time::{SystemTime, UNIX_EPOCH};
 
-use super::Session;
+use super::{Change, FileStep, Session, SessionError};
 
 use crate::command::Stamped;
+use crate::platform::{self, SystemTime, UNIX_EPOCH};
 use crate::render::TickHistory;
 use crate::replay::{RecordOptions, RecordStats, Recorder};
 use crate::sim_loop::{ObserverError, TickObserver};
@@ -81,15 +81,10 @@ impl Sink {
     fn deliver(self, path: &Path) {
         match self {
             Sink::File(_) => {}
-            #[cfg(target_arch = "wasm32")]
             Sink::Download(bytes) => {
                 let name = path.to_string_lossy();
                 let name = name.strip_suffix(" (a download)").unwrap_or(&name);
-                crate::app::web::download(&name, &bytes, "application/octet-stream");
-            }
-            #[cfg(not(target_arch = "wasm32"))]
-            Sink::Download(_) => {
-                let _ = path;
+                platform::offer_download(name, &bytes, "application/octet-stream");
             }
         }
     }
@@ -98,8 +93,12 @@ impl Sink {
 impl LiveRecording {
     /// Creates `path` (and its folder) and starts recording `world` as it is now; `scene_file`
     /// names the scene in the header.
-    pub fn start(path: &Path, world: &World, scene_file: &str) -> Result<LiveRecording, String> {
-        let fail = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
+    pub fn start(
+        path: &Path,
+        world: &World,
+        scene_file: &str,
+    ) -> Result<LiveRecording, SessionError> {
+        let fail = |e| SessionError::io(path, FileStep::Record, e);
         create_folder_of(path)?;
         let file = File::create(path).map_err(fail)?;
         LiveRecording::start_in(Sink::File(file), path, world, scene_file)
@@ -111,8 +110,8 @@ impl LiveRecording {
         path: &Path,
         world: &World,
         scene_file: &str,
-    ) -> Result<LiveRecording, String> {
-        let fail = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
+    ) -> Result<LiveRecording, SessionError> {
+        let fail = |e| SessionError::io(path, FileStep::Record, e);
         let options = RecordOptions {
             scene_file: scene_file.to_string(),
             ..RecordOptions::default()
@@ -213,69 +212,70 @@ impl std::fmt::Display for FinishedRecording {
     }
 }
 
+/// The session's recordings of its first lane.
+#[derive(Debug, Default)]
+pub(super) struct Recordings {
+    /// The recording in progress.
+    pub(super) current: Option<LiveRecording>,
+    /// The recordings finished, oldest first.
+    pub(super) finished: Vec<FinishedRecording>,
+    /// Where recordings without a named file go ([`DEFAULT_DIR`] under it); empty, the
+    /// default, is the working directory.
+    pub(super) dir: PathBuf,
+}
+
 impl Session {
     /// Starts recording the first lane (in compare mode: the first integrator's world) from its
     /// current tick, to `path` or to a new file named by [`default_path`] under the session's
     /// recordings folder (the working directory unless set), made by [`create_default`]. Refused while
     /// replaying, while recording, and while the lane is stopped by a divergence.
-    pub fn start_recording(&mut self, path: Option<PathBuf>) -> Result<(), String> {
-        if self.replay.is_some() {
-            return Err(
-                "replaying: the replay is a recording already (Go live first to record from \
-                 here)"
-                    .into(),
-            );
-        }
-        if let Some(r) = &self.recording {
-            return Err(format!("already recording to {}", r.path().display()));
+    pub fn start_recording(&mut self, path: Option<PathBuf>) -> Result<(), SessionError> {
+        self.refuse_while_replaying(Change::Record)?;
+        if let Some(r) = &self.recording.current {
+            return Err(SessionError::AlreadyRecording(r.path().to_path_buf()));
         }
         let lane = &self.lanes[0];
         if let Some(d) = lane.stopped {
-            return Err(format!("the lane {d}: reset before recording"));
+            return Err(SessionError::Diverged(d));
         }
         let world = &lane.sim.world;
+        let (scene, scene_file) = (self.setup.scene.name(), &self.setup.scene_file);
         let recording = match path {
-            Some(path) => LiveRecording::start(&path, world, &self.scene_file)?,
+            Some(path) => LiveRecording::start(&path, world, scene_file)?,
             None => {
                 let now = SystemTime::now().duration_since(UNIX_EPOCH);
                 let seconds = now.map_or(0, |d| d.as_secs());
-                if cfg!(target_arch = "wasm32") {
+                if !platform::WRITES_FILES {
                     // A page writes no files: the recording is kept and downloaded at its end.
-                    let path = default_path(Path::new(""), &self.scene.name(), seconds, 1);
+                    let path = default_path(Path::new(""), scene, seconds, 1);
                     let path = PathBuf::from(format!(
                         "{} (a download)",
                         path.file_name().unwrap_or_default().to_string_lossy()
                     ));
-                    LiveRecording::start_in(
-                        Sink::Download(Vec::new()),
-                        &path,
-                        world,
-                        &self.scene_file,
-                    )?
+                    LiveRecording::start_in(Sink::Download(Vec::new()), &path, world, scene_file)?
                 } else {
-                    let (path, file) =
-                        create_default(&self.recordings_dir, &self.scene.name(), seconds)?;
-                    LiveRecording::start_in(Sink::File(file), &path, world, &self.scene_file)?
+                    let (path, file) = create_default(&self.recording.dir, scene, seconds)?;
+                    LiveRecording::start_in(Sink::File(file), &path, world, scene_file)?
                 }
             }
         };
-        self.recording = Some(recording);
+        self.recording.current = Some(recording);
         Ok(())
     }
 
     /// Ends the recording, if one is running, at the first lane's tick (final keyframe and
     /// footer), noting why; returns it.
     pub fn stop_recording(&mut self, ended: &str) -> Option<&FinishedRecording> {
-        let recording = self.recording.take()?;
+        let recording = self.recording.current.take()?;
         let finished = recording.finish(&self.lanes[0].sim.world, ended);
-        self.recordings.push(finished);
-        self.recordings.last()
+        self.recording.finished.push(finished);
+        self.recording.finished.last()
     }
 
     /// Starts or stops recording (the panel's button and its key); returns why a recording
     /// could not start.
-    pub fn toggle_recording(&mut self) -> Result<(), String> {
-        if self.recording.is_some() {
+    pub fn toggle_recording(&mut self) -> Result<(), SessionError> {
+        if self.recording.current.is_some() {
             self.stop_recording("stopped");
             Ok(())
         } else {
@@ -285,12 +285,23 @@ impl Session {
 
     /// The recording in progress.
     pub fn recording(&self) -> Option<&LiveRecording> {
-        self.recording.as_ref()
+        self.recording.current.as_ref()
     }
 
     /// The recordings this session finished, oldest first.
     pub fn recordings(&self) -> &[FinishedRecording] {
-        &self.recordings
+        &self.recording.finished
+    }
+
+    /// Where recordings without a named file go ([`DEFAULT_DIR`] under it) and setups are
+    /// saved; empty, the default, is the working directory.
+    pub fn recordings_dir(&self) -> &Path {
+        &self.recording.dir
+    }
+
+    /// Sends recordings without a named file, and saved setups, to `dir`.
+    pub fn set_recordings_dir(&mut self, dir: PathBuf) {
+        self.recording.dir = dir;
     }
 }
 
@@ -323,7 +334,7 @@ pub fn create_default(
     dir: &Path,
     scene: &str,
     unix_seconds: u64,
-) -> Result<(PathBuf, File), String> {
+) -> Result<(PathBuf, File), SessionError> {
     let first = default_path(dir, scene, unix_seconds, 1);
     create_folder_of(&first)?;
     for n in 1..=DEFAULT_NAME_TRIES {
@@ -331,24 +342,18 @@ pub fn create_default(
         match File::options().write(true).create_new(true).open(&path) {
             Ok(file) => return Ok((path, file)),
             Err(e) if e.kind() == ErrorKind::AlreadyExists => continue,
-            Err(e) => return Err(format!("{}: cannot write: {e}", path.display())),
+            Err(e) => return Err(SessionError::io(path, FileStep::Record, e)),
         }
     }
     let last = default_path(dir, scene, unix_seconds, DEFAULT_NAME_TRIES);
-    Err(format!(
-        "{} to {}: every name is taken; name a file to record to",
-        first.display(),
-        last.display()
-    ))
+    Err(SessionError::NamesTaken { first, last })
 }
 
 /// Creates the folder `path` goes in, if it has one and it is missing.
-fn create_folder_of(path: &Path) -> Result<(), String> {
+fn create_folder_of(path: &Path) -> Result<(), SessionError> {
     match path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        Some(dir) => std::fs::create_dir_all(dir).map_err(|e| {
-            let dir = dir.display();
-            format!("{}: cannot create its folder {dir}: {e}", path.display())
-        }),
+        Some(dir) => std::fs::create_dir_all(dir)
+            .map_err(|e| SessionError::io(path, FileStep::MakeFolder(dir.to_path_buf()), e)),
         None => Ok(()),
     }
 }

@@ -21,6 +21,17 @@ use crate::replay::{FirstDivergence, Recording, ReplayError, Verifier};
 use crate::sim_loop::{LoopError, SimLoop};
 use crate::world::{Divergence, World};
 
+/// The session's replays into its first lane.
+#[derive(Debug, Default)]
+pub(super) struct Replays {
+    /// The replay being played.
+    pub(super) current: Option<SessionReplay>,
+    /// The verdict of the last replay that ended.
+    pub(super) last: Option<ReplayVerdict>,
+    /// Replays opened, a seek in one opening it again ([`Session::replays_opened`]).
+    pub(super) opened: u64,
+}
+
 impl Session {
     /// Replays the recording `path` in this session (from the keyframe at or before `seek`,
     /// then re-simulated to `seek`): one lane, the recording's scene, step and integrator. A
@@ -38,32 +49,33 @@ impl Session {
         let (replay, sim) = SessionReplay::open_from(source, seek)?;
         self.stop_recording("a replay started");
         self.end_replay();
-        self.compare.clear();
+        self.setup.compare.clear();
         self.install_replay(replay, sim);
         Ok(())
     }
 
     /// Makes `replay` (with its loop) the session's only lane.
     pub(super) fn install_replay(&mut self, replay: SessionReplay, mut sim: SimLoop) {
-        self.scene = replay.verifier().scene().clone();
-        self.bounds = SceneBounds::of_scene(&self.scene);
-        self.path = replay.file().to_path_buf();
-        self.scene_file = replay.verifier().recording().header().scene_file.clone();
-        self.embedded = true;
-        sim.world.set_threads(self.threads);
+        let setup = &mut self.setup;
+        setup.scene = replay.verifier().scene().clone();
+        setup.bounds = SceneBounds::of_scene(&setup.scene);
+        setup.path = replay.file().to_path_buf();
+        setup.scene_file = replay.verifier().recording().header().scene_file.clone();
+        setup.embedded = true;
+        sim.world.set_threads(setup.threads);
         self.tune(&mut sim);
         // A replay seeks in its file (`seek`), so the lane keeps no timeline of its own.
-        self.lanes = vec![Lane::new(sim, self.bounds.center(), None)];
-        self.last = FrameTicks::default();
-        self.replays_opened += 1;
-        self.replay = Some(replay);
-        self.pacing.rebase();
+        self.lanes = vec![Lane::new(sim, self.setup.bounds.center(), None)];
+        self.clock.last = FrameTicks::default();
+        self.replay.opened += 1;
+        self.replay.current = Some(replay);
+        self.pacing.log.rebase();
     }
 
     /// Ends the replay and keeps its state: the lane runs on live from the tick it reached,
     /// without the recording's remaining commands. Returns false if nothing was replaying.
     pub fn go_live(&mut self) -> bool {
-        if self.replay.is_none() {
+        if self.replay.current.is_none() {
             return false;
         }
         self.end_replay();
@@ -78,27 +90,27 @@ impl Session {
 
     /// Forgets the replay, keeping its verdict.
     pub(super) fn end_replay(&mut self) {
-        if let Some(replay) = self.replay.take() {
-            self.last_replay = Some(replay.verdict(&self.lanes[0].sim.world));
+        if let Some(replay) = self.replay.current.take() {
+            self.replay.last = Some(replay.verdict(&self.lanes[0].sim.world));
         }
     }
 
     /// How many times this session opened a replay: started one, or opened it again at
     /// another tick for a seek in it. The panel drops a refusal made before the last opening.
     pub fn replays_opened(&self) -> u64 {
-        self.replays_opened
+        self.replay.opened
     }
 
     /// The replay being played.
     pub fn replay(&self) -> Option<&SessionReplay> {
-        self.replay.as_ref()
+        self.replay.current.as_ref()
     }
 
     /// The verdict of the replay being played, or else of the last one this session played.
     pub fn replay_verdict(&self) -> Option<ReplayVerdict> {
-        match &self.replay {
+        match &self.replay.current {
             Some(r) => Some(r.verdict(&self.lanes[0].sim.world)),
-            None => self.last_replay.clone(),
+            None => self.replay.last.clone(),
         }
     }
 }

@@ -11,19 +11,41 @@
 
 use std::time::Duration;
 
-use super::Session;
+use super::{Session, SessionError};
+
+/// What rewinding keeps besides each lane's timeline.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Rewind {
+    /// Memory budget of each lane's timeline (bytes).
+    pub(super) budget: usize,
+    /// Playing backwards: sim time owed to the reverse playback (scaled by the time scale).
+    pub(super) reverse: Option<Duration>,
+    /// The tick from which a new command last dropped the recorded future.
+    pub(super) future_dropped_at: Option<u64>,
+}
+
+impl Default for Rewind {
+    /// [`crate::timeline::DEFAULT_BUDGET`] a lane, playing forwards, no future dropped.
+    fn default() -> Rewind {
+        Rewind {
+            budget: crate::timeline::DEFAULT_BUDGET,
+            reverse: None,
+            future_dropped_at: None,
+        }
+    }
+}
 
 impl Session {
     /// Each lane's timeline budget (bytes).
     pub fn history_budget(&self) -> usize {
-        self.history_budget
+        self.rewind.budget
     }
 
     /// Sets each lane's timeline budget (bytes); the timelines start again at the current tick.
     pub fn set_history_budget(&mut self, bytes: usize) {
-        self.history_budget = bytes;
+        self.rewind.budget = bytes;
         for lane in &mut self.lanes {
-            if lane.history.timeline.is_some() || self.replay.is_none() {
+            if lane.history.timeline.is_some() || self.replay.current.is_none() {
                 lane.history.timeline = crate::timeline::Timeline::fits(&lane.sim.world, bytes)
                     .then(|| crate::timeline::Timeline::new(&lane.sim.world, bytes));
             }
@@ -33,7 +55,7 @@ impl Session {
     /// The ticks the timeline covers: live, the history every lane holds (`None` when a lane
     /// keeps none, its world being too large for the budget); in a replay, the recording's.
     pub fn history_range(&self) -> Option<(u64, u64)> {
-        if let Some(replay) = &self.replay {
+        if let Some(replay) = &self.replay.current {
             return Some((0, replay.end_tick()));
         }
         // In the first lane's ticks; lanes with their own dt follow it by sim time.
@@ -55,25 +77,23 @@ impl Session {
     /// their pause and time scale. In a replay the recording is opened again at `tick`
     /// ([`Session::replays_opened`]). Returns why it could not (the last lane's reason, if
     /// several lanes failed; the others still moved).
-    pub fn seek(&mut self, tick: u64) -> Result<(), String> {
+    pub fn seek(&mut self, tick: u64) -> Result<(), SessionError> {
         let Some((start, end)) = self.history_range() else {
-            return Err(format!(
-                "no history to seek in: a keyframe of this world is over an eighth of the {} MiB \
-                 budget (--history-budget)",
-                self.history_budget >> 20
-            ));
+            return Err(SessionError::NoHistory {
+                budget: self.rewind.budget,
+            });
         };
         let tick = tick.clamp(start, end);
         if tick == self.world().tick() {
             return Ok(());
         }
-        if let Some(replay) = &self.replay {
+        if let Some(replay) = &self.replay.current {
             let source = replay.source().clone();
             return self
                 .start_replay_from(source, Some(tick))
-                .map_err(|e| format!("seek: {e}"));
+                .map_err(SessionError::ReplaySeek);
         }
-        if self.recording.is_some() {
+        if self.recording.current.is_some() {
             self.stop_recording(&format!("the timeline moved to tick {tick}"));
         }
         // `tick` is the first lane's; a lane with its own dt goes to its last tick at or
@@ -92,7 +112,7 @@ impl Session {
                 (t as u64).clamp(timeline.start(), timeline.end())
             };
             if let Err(e) = timeline.seek(&mut lane.sim.world, own) {
-                refused = Err(format!("seek: {e}"));
+                refused = Err(SessionError::Seek(e));
                 continue;
             }
             lane.sim.clear_queued();
@@ -108,18 +128,18 @@ impl Session {
     }
 
     /// Pauses and goes back one tick, as [`Session::seek`] does.
-    pub fn step_back(&mut self) -> Result<(), String> {
+    pub fn step_back(&mut self) -> Result<(), SessionError> {
         self.set_paused(true);
-        self.reverse = None;
+        self.rewind.reverse = None;
         let tick = self.world().tick();
         self.seek(tick.saturating_sub(1))
     }
 
     /// Pauses at the first tick held, as [`Session::seek`] does (nothing moves without a
     /// timeline).
-    pub fn jump_to_start(&mut self) -> Result<(), String> {
+    pub fn jump_to_start(&mut self) -> Result<(), SessionError> {
         self.set_paused(true);
-        self.reverse = None;
+        self.rewind.reverse = None;
         match self.history_range() {
             Some((start, _)) => self.seek(start),
             None => Ok(()),
@@ -128,9 +148,9 @@ impl Session {
 
     /// Goes to the last tick run (the end of the recorded future), paused, as
     /// [`Session::seek`] does (nothing moves without a timeline).
-    pub fn jump_to_end(&mut self) -> Result<(), String> {
+    pub fn jump_to_end(&mut self) -> Result<(), SessionError> {
         self.set_paused(true);
-        self.reverse = None;
+        self.rewind.reverse = None;
         match self.history_range() {
             Some((_, end)) => self.seek(end),
             None => Ok(()),
@@ -140,21 +160,21 @@ impl Session {
     /// Plays backwards (at the time scale) or stops doing so; playing backwards pauses the
     /// forward clocks, and stops at the first tick held.
     pub fn toggle_reverse(&mut self) {
-        if self.reverse.take().is_none() {
+        if self.rewind.reverse.take().is_none() {
             self.set_paused(true);
-            self.reverse = Some(Duration::ZERO);
+            self.rewind.reverse = Some(Duration::ZERO);
         }
     }
 
     /// Whether the session plays backwards.
     pub fn is_reversing(&self) -> bool {
-        self.reverse.is_some()
+        self.rewind.reverse.is_some()
     }
 
     /// A frame while playing backwards: the frame's delta, scaled, goes back in whole ticks
     /// (nothing when not playing backwards); returns why the seek failed, if it did.
-    pub(super) fn reverse_frame(&mut self, delta: Duration) -> Result<(), String> {
-        let Some(owed) = self.reverse else {
+    pub(super) fn reverse_frame(&mut self, delta: Duration) -> Result<(), SessionError> {
+        let Some(owed) = self.rewind.reverse else {
             return Ok(());
         };
         let scaled = Duration::from_secs_f64(delta.as_secs_f64() * self.clock.time_scale);
@@ -166,14 +186,14 @@ impl Session {
         let start = self.history_range().map_or(now, |r| r.0);
         let to = now.saturating_sub(ticks).max(start);
         let sought = if to != now { self.seek(to) } else { Ok(()) };
-        self.reverse = (to > start).then_some(left);
+        self.rewind.reverse = (to > start).then_some(left);
         sought
     }
 
     /// The tick from which a new command last dropped the recorded future (after a seek back),
     /// for the panel's note; `None` if no command has.
     pub fn future_dropped_at(&self) -> Option<u64> {
-        self.future_dropped_at
+        self.rewind.future_dropped_at
     }
 
     /// Before a new command: if the lanes are behind their recorded future, that future is
@@ -195,7 +215,7 @@ impl Session {
             }
         }
         if dropped.is_some() {
-            self.future_dropped_at = dropped;
+            self.rewind.future_dropped_at = dropped;
         }
     }
 }

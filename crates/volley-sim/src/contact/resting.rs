@@ -23,7 +23,7 @@ use crate::integrate::Scheme;
 /// step, searched on the integrator's path from the contact with the normal momentum removed,
 /// ending at the clamped end), their evaluations in `evals.1`.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn settle<S: Scheme, const EVENTS: bool>(
+pub(super) fn settle<S: Scheme, const LEVELS: bool, const EVENTS: bool>(
     scheme: &S,
     ctx: &StepContext,
     body: Particle,
@@ -56,13 +56,14 @@ pub(super) fn settle<S: Scheme, const EVENTS: bool>(
         plane.normal,
         plane.offset - level_contact::level_radius(body.r),
     );
-    let flat = cands.is_some_and(|tris| {
+    let flat = LEVELS
+        && cands.is_some_and(|tris| {
         let reach = 0.5 * (end.p - s.p).length()
             + roots::margin(&s, &end, body.w.inv, remaining)
             + 2.0 * level_contact::level_radius(body.r);
         tris.only_plane(0.5 * (s.p + end.p), reach, surface)
     });
-    let cands = if flat { None } else { cands };
+    let cands = if flat || !LEVELS { None } else { cands };
     if let Some(tris) = cands
         && remaining > 0.0
     {
@@ -187,13 +188,13 @@ fn push_out_of_levels(tris: &impl LevelTriangles, r: f64, s: &mut BodyState) -> 
     true
 }
 
-pub(super) fn clamp_outside(
+pub(super) fn clamp_outside<const LEVELS: bool>(
     ctx: &StepContext,
     body: Particle,
     s: &mut BodyState,
     cands: Option<&Candidates>,
 ) {
-    if let Some(tris) = cands {
+    if LEVELS && let Some(tris) = cands {
         push_out_of_levels(tris, body.r, s);
     }
     if let Some(plane) = planes(ctx.contacts, s.p, body.r).next()

@@ -43,7 +43,7 @@ impl World {
             fresh: &[],
         };
         let b = &mut self.state.bodies;
-        let (fixed, p, mv) = Fixed::of(b, &self.state.forces);
+        let (fixed, p, mv) = Fixed::of(b, self.facts.reads_launch);
         let chunk = fixed.chunk(p, mv, &mut self.state.carry, carries);
         let saved_chunk = fixed.chunk(&mut saved.p, &mut saved.mv, &mut saved.carry, carries);
         // The guard's test, on the model `guard_energy` uses, so it trips exactly where it would.

@@ -9,7 +9,6 @@ use crate::integrate::Scheme;
 use glam::DVec3;
 
 use crate::body::{Bodies, Launch, Mass};
-use crate::forces::Forces;
 use crate::world::{BodyId, Vec3s, World};
 
 use super::PARALLEL_MIN_CHUNK;
@@ -154,12 +153,12 @@ pub(super) struct Fixed<'a> {
 }
 
 impl<'a> Fixed<'a> {
-    /// The fixed columns of `b`, the launch ones only if `forces` read them, beside its
+    /// The fixed columns of `b`, the launch ones only if the forces read them, beside its
     /// positions and momenta to write.
     #[inline]
     pub(super) fn of(
         b: &'a mut Bodies,
-        forces: &Forces,
+        reads_launch: bool,
     ) -> (Fixed<'a>, &'a mut Vec3s, &'a mut Vec3s) {
         let fixed = Fixed {
             ids: &b.id,
@@ -170,7 +169,7 @@ impl<'a> Fixed<'a> {
                 &b.launch_time,
                 &b.launch_mass,
                 &b.spin,
-                forces.reads_launch(),
+                reads_launch,
             ),
             energy_cap: &b.energy_cap,
         };

@@ -14,10 +14,10 @@ impl World {
     pub(super) fn guard_energy(&mut self) -> Result<(), Divergence> {
         let every = u64::from(self.params.guard.every);
         // A game's own term or a motor may add energy: then only finiteness is checked.
-        if every == 0 || !self.state.tick.is_multiple_of(every) || self.state.forces.adds_energy() {
+        if every == 0 || !self.state.tick.is_multiple_of(every) || self.facts.adds_energy {
             return Ok(());
         }
-        let found = match self.state.forces.constant_field() {
+        let found = match self.facts.constant {
             Some(field) => first_over_cap(&self.state.bodies, &field),
             None => first_over_cap(&self.state.bodies, &self.state.forces),
         };

@@ -5,7 +5,7 @@
 use glam::DVec3;
 
 use crate::contact::{self, Detection, Event, Particle, StepContext};
-use crate::integrate::{BodyState, Dense, Scheme, SchemeVisitor, visit};
+use crate::integrate::{BodyState, Dense, Scheme, SchemeVisitor, visit_with};
 #[cfg(target_arch = "x86_64")]
 use crate::simd::{SimdLevel, simd_level};
 use crate::world::World;
@@ -23,7 +23,7 @@ impl World {
         h: f64,
     ) -> Option<usize> {
         let (chunks, carries) = self.prepare_chunks();
-        let gravity = self.state.forces.gravity.map_or(0.0, DVec3::length);
+        let gravity = self.facts.gravity;
         let ctx = StepContext {
             contacts: &self.params.contacts,
             tick,
@@ -34,11 +34,12 @@ impl World {
             fresh: &self.scratch.fresh,
         };
         let b = &mut self.state.bodies;
-        let (fixed, p, mv) = Fixed::of(b, &self.state.forces);
+        let (fixed, p, mv) = Fixed::of(b, self.facts.reads_launch);
         let chunk = fixed.chunk(p, mv, &mut self.state.carry, carries);
-        let out = visit(
+        let out = visit_with(
             self.state.integrator,
             &self.state.forces,
+            self.facts.constant,
             self.params.tolerance,
             Integrate {
                 chunk,

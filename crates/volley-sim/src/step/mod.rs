@@ -47,7 +47,7 @@ impl World {
         self.scratch.events.clear();
         let next_tick = self.state.tick + 1;
         let h_sub = self.params.h / f64::from(self.params.substeps);
-        let motor = self.state.forces.thrust.is_some();
+        let motor = self.facts.motor;
         for k in 0..self.params.substeps {
             let t0 = self.time_of(self.state.tick) + f64::from(k) * h_sub;
             let since = self.state.tick as f64 * self.params.h + f64::from(k) * h_sub;

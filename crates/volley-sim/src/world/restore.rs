@@ -109,6 +109,7 @@ impl World {
             return Err(RestoreError::Tallies);
         }
         self.state.assign_from(s, true);
+        self.facts = super::ForceFacts::of(&self.state.forces);
         self.carry_valid = !s.carry.is_empty();
         self.scratch.events.clear();
         self.halt = super::Halt::Running;

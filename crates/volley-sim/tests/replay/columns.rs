@@ -72,7 +72,7 @@ fn a_keyframe_round_trip_gives_every_column_back() {
     let bytes = keyframe_bytes(&w);
     let payload = &bytes[HEAD_LEN..bytes.len() - CRC_LEN];
     let mut decoded = World::new(w.scene()).snapshot();
-    decode_keyframe(payload, &w.scene().forces(), &mut decoded).unwrap();
+    decode_keyframe(payload, w.scene().forces(), &mut decoded).unwrap();
     assert_eq!(decoded, w.snapshot());
     for column in &COLUMNS {
         assert_eq!(

@@ -118,7 +118,7 @@ const MODEL_REL: f64 = 1e-12;
 #[test]
 fn the_ball_feels_the_force_nathans_calculator_prints_in_every_row() {
     let scene = fly_ball(Integrator::ExplicitEuler);
-    let forces = &scene.forces();
+    let forces = scene.forces();
     let w = Mass::launched(
         mass(),
         Launch {

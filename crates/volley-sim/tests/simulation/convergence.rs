@@ -46,7 +46,7 @@ fn stepped_error(scene: &scene::Scene, steps: u64) -> (f64, u64) {
         p: spec.position,
         mv: spec.mass * spec.velocity,
     };
-    let exact = closed_form(&scene.forces(), start, spec.mass, world.time()).unwrap();
+    let exact = closed_form(scene.forces(), start, spec.mass, world.time()).unwrap();
     let e = (world.bodies().positions().get(0) - exact.p).length();
     (e, world.force_evals())
 }

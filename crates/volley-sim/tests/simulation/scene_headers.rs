@@ -535,7 +535,7 @@ fn spring_header_frequency_and_energies_are_the_runs() {
     let e = energies(Integrator::ImplicitEuler);
     assert!(e.windows(2).all(|p| p[1] < p[0]), "implicit Euler damps");
     assert!(
-        check_integrator(Integrator::Exact, &s.forces()).is_ok(),
+        check_integrator(Integrator::Exact, s.forces()).is_ok(),
         "closed form"
     );
     let e = energies(Integrator::Exact);
@@ -558,7 +558,7 @@ fn drag_header_rate_and_terminal_speed_are_the_scenes() {
     );
     assert_60_hz(&s);
     assert_eq!((s.start_time(), s.duration()), (0.0, 5.2));
-    assert!(check_integrator(Integrator::Exact, &s.forces()).is_ok());
+    assert!(check_integrator(Integrator::Exact, s.forces()).is_ok());
     // The seed's shot: the seed's body and launch.
     let seed = scene("seed").bodies()[0];
     let body = s.bodies()[0];
@@ -593,7 +593,7 @@ fn drag_masses_header_the_light_one_falls_shortest() {
     let mass = |i: usize| s.bodies()[i].mass;
     assert!(mass(0) < mass(1) && mass(1) < mass(2));
     assert!(carry[0] < carry[1] && carry[1] < carry[2]);
-    assert!(check_integrator(Integrator::Exact, &s.forces()).is_ok());
+    assert!(check_integrator(Integrator::Exact, s.forces()).is_ok());
 }
 
 /// bounce.ron: three balls on ground of restitution 0.8 (the header and the description said
@@ -701,7 +701,7 @@ fn wind_header_volley_and_no_closed_form() {
     assert_eq!(s.volley().unwrap().count, 200);
     assert_eq!(World::new(&s).bodies().len(), 200);
     assert!(s.forces().constant.unwrap().y > 0.0 && s.forces().quadratic_drag.is_some());
-    assert!(check_integrator(Integrator::Exact, &s.forces()).is_err());
+    assert!(check_integrator(Integrator::Exact, s.forces()).is_err());
 }
 
 /// bench/gravity.ron and bench/drag.ron: no contacts, the guard off, the drag scene the gravity

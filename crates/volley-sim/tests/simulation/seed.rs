@@ -228,7 +228,7 @@ fn the_seed_built_in_code_steps_to_the_files_hash() {
     use volley_sim::{Integrator, World};
     let file = scene::bundled("seed").unwrap();
     let built = Scene::builder("seed", 0.2)
-        .description(&file.description())
+        .description(file.description())
         .start_time(5.0)
         .duration(5.4)
         .integrator(Integrator::ExplicitEuler)

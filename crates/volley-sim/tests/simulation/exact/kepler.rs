@@ -239,7 +239,7 @@ fn invariant_drift(pm: PointMass, e: f64) -> ((f64, f64), (f64, f64)) {
         (de, dh) = (de.max(a), dh.max(b));
     }
     assert!(world.time() > 999.0 * period);
-    let jump = closed_form(&scene.forces(), s0, 1.5, world.time()).unwrap();
+    let jump = closed_form(scene.forces(), s0, 1.5, world.time()).unwrap();
     ((de, dh), change(invariants(jump.p, jump.mv / 1.5)))
 }
 

@@ -144,10 +144,10 @@ proptest! {
         let mut world = World::new(&scene);
         let s0 = world.bodies().state(0);
         world.step_ticks(steps).unwrap();
-        let expected = closed_form(&scene.forces(), s0, m, world.time())
+        let expected = closed_form(scene.forces(), s0, m, world.time())
             .expect("a linear scene has a closed form");
         let got = world.bodies().state(0);
-        let size = scale(&scene.forces(), m, s0);
+        let size = scale(scene.forces(), m, s0);
         prop_assert!((got.p - expected.p).length() <= 1e-9 * size,
             "t = {}: {} vs {}", world.time(), got.p, expected.p);
     }

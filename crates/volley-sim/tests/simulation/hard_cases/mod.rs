@@ -34,7 +34,7 @@ pub fn with(scene: &Scene, integrator: Integrator) -> Scene {
 pub fn allowed(scene: &Scene) -> Vec<Integrator> {
     Integrator::ALL
         .into_iter()
-        .filter(|i| scene::check_integrator(*i, &scene.forces()).is_ok())
+        .filter(|i| scene::check_integrator(*i, scene.forces()).is_ok())
         .collect()
 }
 

@@ -159,7 +159,7 @@ fn kepler_time_exact_lands_where_keplers_equation_says() {
             "tick {n}: stepped position off by {err:e} m"
         );
         let closed =
-            volley_sim::internals::exact::closed_form(&scene.forces(), s0, b.mass, t).unwrap();
+            volley_sim::internals::exact::closed_form(scene.forces(), s0, b.mass, t).unwrap();
         let err = (closed.p - expected).length();
         assert!(err <= 1e-13, "tick {n}: closed form off by {err:e} m");
     }

@@ -308,7 +308,7 @@ fn critical_spring_exact_is_the_critical_closed_form_at_every_tick() {
     };
     for (n, p) in trace.p.iter().enumerate() {
         let t = n as f64 * scene.dt();
-        let closed = volley_sim::internals::exact::closed_form(&scene.forces(), s0, m, t).unwrap();
+        let closed = volley_sim::internals::exact::closed_form(scene.forces(), s0, m, t).unwrap();
         // Each step composes the exact flow, so only rounding accumulates (an ulp of the 5 m
         // coordinates a step, damped by the flow itself): 1e-12 m over 600 steps. The closed
         // form and the textbook critical solution are both a few ulps from the truth.
