@@ -58,11 +58,11 @@ pub(super) fn settle<S: Scheme, const LEVELS: bool, const EVENTS: bool>(
     );
     let flat = LEVELS
         && cands.is_some_and(|tris| {
-        let reach = 0.5 * (end.p - s.p).length()
-            + roots::margin(&s, &end, body.w.inv, remaining)
-            + 2.0 * level_contact::level_radius(body.r);
-        tris.only_plane(0.5 * (s.p + end.p), reach, surface)
-    });
+            let reach = 0.5 * (end.p - s.p).length()
+                + roots::margin(&s, &end, body.w.inv, remaining)
+                + 2.0 * level_contact::level_radius(body.r);
+            tris.only_plane(0.5 * (s.p + end.p), reach, surface)
+        });
     let cands = if flat || !LEVELS { None } else { cands };
     if let Some(tris) = cands
         && remaining > 0.0

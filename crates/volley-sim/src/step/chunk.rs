@@ -165,12 +165,7 @@ impl<'a> Fixed<'a> {
             mass: &b.mass,
             inv_mass: &b.inv_mass,
             radius: &b.radius,
-            launch: Launches::of(
-                &b.launch_time,
-                &b.launch_mass,
-                &b.spin,
-                reads_launch,
-            ),
+            launch: Launches::of(&b.launch_time, &b.launch_mass, &b.spin, reads_launch),
             energy_cap: &b.energy_cap,
         };
         (fixed, &mut b.p, &mut b.mv)
