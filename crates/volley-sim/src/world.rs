@@ -344,12 +344,38 @@ pub struct World {
     /// Worker threads (a runtime knob: the bits do not depend on it).
     pub(crate) threads: usize,
     /// Which per-body loop the step runs (fixed by the scene).
-    pub(crate) stage: crate::step::Stage,
+    pub(crate) stage: Stage,
     /// Force evaluations the declared events' search has spent (not counted in
     /// [`World::force_evals`], which the stepping alone decides).
     pub(crate) event_evals: u64,
     /// The active terms' facts ([`ForceFacts`]), kept with them.
     pub(crate) facts: ForceFacts,
+}
+
+/// Which per-body loop a world's step runs, fixed by its scene: no contact stage at all,
+/// contacts only, or contacts and declared events.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Stage {
+    /// Neither contacts nor events.
+    #[default]
+    Bare,
+    /// Contacts, no declared events.
+    Contacts,
+    /// Declared events (and any contacts).
+    Events,
+}
+
+impl Stage {
+    /// The stage of a scene's contacts and events.
+    pub fn of(contacts: &crate::contact::Contacts) -> Stage {
+        if !contacts.events.is_empty() {
+            Stage::Events
+        } else if contacts.is_empty() {
+            Stage::Bare
+        } else {
+            Stage::Contacts
+        }
+    }
 }
 
 /// Whether a world steps on, or what stopped it.
@@ -396,11 +422,11 @@ impl World {
             carry_valid: false,
             halt: Halt::Running,
             threads: 1,
-            stage: crate::step::Stage::Bare,
+            stage: Stage::Bare,
             event_evals: 0,
             facts: ForceFacts::of(&scene.forces),
         };
-        world.stage = crate::step::Stage::of(&world.params.contacts);
+        world.stage = Stage::of(&world.params.contacts);
         world.state.tallies.run = vec![0; world.params.contacts.events.run_slots()];
         world.populate();
         world

@@ -8,7 +8,7 @@ use crate::contact::{self, Detection, Event, Particle, StepContext};
 use crate::integrate::{BodyState, Dense, Scheme, SchemeVisitor, visit_with};
 #[cfg(target_arch = "x86_64")]
 use crate::simd::{SimdLevel, simd_level};
-use crate::world::World;
+use crate::world::{Stage, World};
 
 use super::chunk::{Chunk, Fixed, split_run};
 
@@ -82,32 +82,6 @@ impl KernelOut {
             first_non_finite: self.first_non_finite.or(later.first_non_finite),
             carried: self.carried,
             event_evals: self.event_evals + later.event_evals,
-        }
-    }
-}
-
-/// Which per-body loop a world's step runs, fixed by its scene: no contact stage at all,
-/// contacts only, or contacts and declared events.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Stage {
-    /// Neither contacts nor events.
-    #[default]
-    Bare,
-    /// Contacts, no declared events.
-    Contacts,
-    /// Declared events (and any contacts).
-    Events,
-}
-
-impl Stage {
-    /// The stage of a scene's contacts and events.
-    pub fn of(contacts: &crate::contact::Contacts) -> Stage {
-        if !contacts.events.is_empty() {
-            Stage::Events
-        } else if contacts.is_empty() {
-            Stage::Bare
-        } else {
-            Stage::Contacts
         }
     }
 }

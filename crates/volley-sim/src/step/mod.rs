@@ -28,9 +28,10 @@ mod guard;
 mod kernel;
 
 pub use crate::simd::{SimdLevel, simd_level};
+pub use crate::world::Stage;
 use crate::world::{Divergence, DivergenceCause, Halt, World};
 pub use batch::{BATCH_BLOCK, BATCH_MAX_TICKS};
-pub use kernel::{STREAMING_MIN_BODIES, Stage};
+pub use kernel::STREAMING_MIN_BODIES;
 
 /// Bodies per chunk below which stepping stays on one thread.
 pub const PARALLEL_MIN_CHUNK: usize = 16 * 1024;
