@@ -515,9 +515,6 @@ fn crossings<S: Scheme>(
         if let Some(c) = cluster {
             found.push(graze(c, direction));
         }
-        if std::env::var("VOLLEY_DEBUG_EVENTS").is_ok() {
-            eprintln!("round {round} sigma {sigma} start {} root {:?} touches {}", start.tau, root.map(|(l, h)| (l.tau, h.tau, l.value, h.value)), search.touches.len());
-        }
         let fresh_start = seg.fresh && round == 0 && on_zero && start.tau == 0.0;
         let Some((lo, hi)) = root else {
             if fresh_start {
@@ -572,7 +569,118 @@ fn crossings<S: Scheme>(
             break;
         }
     }
-    found
+    let start = PathPoint {
+        tau: 0.0,
+        s: seg.start,
+        value: ga,
+    };
+    let on_zero = ga.abs() <= 2.0 * rounding_of(test, seg, &start);
+    merge_touches(found, test, seg, on_zero)
+}
+
+/// One report per touch of zero. A path within rounding of zero over a stretch (a tangent, a
+/// root on a step boundary) is sampled on both sides of zero many times: sign changes closer
+/// together than a millionth of the segment are one group, reported once, as a crossing where
+/// the group's crossings change the sign an odd number of times (at its first, going that
+/// way), as a graze otherwise (where the path is most nearly tangent). A segment that starts
+/// on zero continues the touch the segment before reported: its first group is dropped, but
+/// for a fresh body's report at its spawn.
+fn merge_touches(
+    found: Vec<Found>,
+    test: &Test,
+    seg: &Segment,
+    starts_on_zero: bool,
+) -> Vec<Found> {
+    if found.is_empty() {
+        return found;
+    }
+    let window = 1e-6 * seg.duration;
+    let inv = seg.body.w.inv;
+    let mut out: Vec<Found> = Vec::with_capacity(found.len());
+    let mut i = 0;
+    while i < found.len() {
+        let mut j = i + 1;
+        while j < found.len() && found[j].tau - found[j - 1].tau <= window {
+            j += 1;
+        }
+        let group = &found[i..j];
+        i = j;
+        if starts_on_zero && group[0].tau <= window {
+            // The zero the segment started on: reported by the segment before, or here at a
+            // fresh body's spawn.
+            if seg.fresh
+                && let Some(spawn) = group.iter().find(|f| f.tau == 0.0 && !f.graze)
+            {
+                out.push(*spawn);
+            }
+            continue;
+        }
+        // An odd number of sign changes is a crossing, at the first, the way it went; an even
+        // number (or only touches) a graze, where the path is most nearly tangent.
+        let crossings: Vec<&Found> = group.iter().filter(|f| !f.graze).collect();
+        let mut report = if crossings.len() % 2 == 1 {
+            *crossings[0]
+        } else {
+            Found {
+                graze: true,
+                direction: group[0].direction,
+                ..group[group.len() / 2]
+            }
+        };
+        if let Test::Linear { n, .. } = test {
+            // A plane: whether the path turns back within rounding decides, whatever the
+            // samples' signs said (a root on a step's end is sampled on both sides; a tangent
+            // may be sampled on one).
+            let slope = |f: &Found| n.dot(f.s.mv * inv).abs();
+            let nearest = *group
+                .iter()
+                .min_by(|a, b| slope(a).total_cmp(&slope(b)))
+                .unwrap_or(&report);
+            let tol = 2.0
+                * rounding_of(
+                    test,
+                    seg,
+                    &PathPoint {
+                        tau: nearest.tau,
+                        s: nearest.s,
+                        value: 0.0,
+                    },
+                );
+            if turns_back(*n, &nearest, seg, tol) {
+                report = Found {
+                    graze: true,
+                    direction: group[0].direction,
+                    ..nearest
+                };
+            } else if report.graze {
+                let rate = n.dot(nearest.s.mv * inv);
+                report = Found {
+                    graze: false,
+                    direction: if rate > 0.0 {
+                        EventDirection::Rising
+                    } else {
+                        EventDirection::Falling
+                    },
+                    ..group[0]
+                };
+            }
+        }
+        out.push(report);
+    }
+    out
+}
+
+/// Whether a plane's function, at the report `f`, turns back within `tol` of zero: at the
+/// segment's mean acceleration along the normal `a`, a rate `r` against it goes on for `r^2 /
+/// 2|a|` before turning. A path that would not leave rounding before turning is a tangent.
+fn turns_back(n: DVec3, f: &Found, seg: &Segment, tol: f64) -> bool {
+    let inv = seg.body.w.inv;
+    let r = n.dot(f.s.mv * inv);
+    let a = n.dot((seg.end.mv - seg.start.mv) * inv) / seg.duration;
+    if r == 0.0 {
+        return true;
+    }
+    r * a < 0.0 && r * r <= 2.0 * a.abs() * tol
 }
 
 /// Rounding of a function's value near the point `p`.
@@ -594,12 +702,7 @@ fn rounding_of(test: &Test, seg: &Segment, p: &PathPoint) -> f64 {
 /// finder finds to a few ulps, where the touch itself is known only to the width over which the
 /// path stays within rounding of the plane (`sqrt(rounding / curvature)`). Looked for around
 /// the touch, within a millionth of the segment; kept as found if it does not change sign there.
-fn refine_graze(
-    f: &mut Found,
-    n: DVec3,
-    seg: &Segment,
-    path: &mut impl FnMut(f64) -> BodyState,
-) {
+fn refine_graze(f: &mut Found, n: DVec3, seg: &Segment, path: &mut impl FnMut(f64) -> BodyState) {
     let inv = seg.body.w.inv;
     let half = 1e-6 * seg.duration;
     let (lo, hi) = ((f.tau - half).max(0.0), (f.tau + half).min(seg.duration));
@@ -607,6 +710,17 @@ fn refine_graze(
     let (a, b) = (path(lo), path(hi));
     let (ra, rb) = (rate(&a), rate(&b));
     if !(ra * rb < 0.0) {
+        // No sign change of the rate inside: the tangent is a Newton step away at the
+        // segment's mean acceleration along the normal (a touch on the segment's end).
+        let accel = n.dot((seg.end.mv - seg.start.mv) * inv) / seg.duration;
+        let r = rate(&f.s);
+        if accel != 0.0 && accel.is_finite() {
+            let tau = (f.tau - r / accel).clamp(lo, hi);
+            if tau != f.tau {
+                f.tau = tau;
+                f.s = path(tau);
+            }
+        }
         return;
     }
     let (tau, _) = crate::contact::roots::bracketed_root(|t| rate(&path(t)), (lo, ra), (hi, rb));

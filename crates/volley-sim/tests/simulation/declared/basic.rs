@@ -95,7 +95,10 @@ fn a_root_exactly_on_a_tick_boundary_is_reported_once_by_the_tick_ending_on_it()
         ));
         let seen = run(&scene, 20);
         assert_eq!(seen.len(), 1, "{integrator}: {seen:?}");
-        assert!((seen[0].time - 9.0 / 64.0).abs() <= 1e-15, "{integrator}: {seen:?}");
+        assert!(
+            (seen[0].time - 9.0 / 64.0).abs() <= 1e-15,
+            "{integrator}: {seen:?}"
+        );
         assert_eq!(seen[0].direction, EventDirection::Rising);
         // The tick that ends on it, or (a step ending an ulp short) the next.
         assert!([9, 10].contains(&seen[0].tick), "{integrator}: {seen:?}");
@@ -208,7 +211,10 @@ fn the_run_stops_at_the_nth_occurrence_and_the_count_is_state() {
     wrong.tallies.run = vec![2];
     let mut other = World::new(&scene);
     other.restore(&wrong).unwrap();
-    assert_ne!(volley_sim::state_hash(&other), volley_sim::state_hash(&again));
+    assert_ne!(
+        volley_sim::state_hash(&other),
+        volley_sim::state_hash(&again)
+    );
     while other.stopped().is_none() && other.tick() < 2000 {
         other.step().unwrap();
     }
