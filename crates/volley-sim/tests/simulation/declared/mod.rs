@@ -2,6 +2,7 @@
 //! and closest approaches, found once each with their exact time and state.
 
 mod basic;
+mod kinds;
 
 use volley_sim::{BodyState, Event, EventDirection, EventKind, Scene, World};
 
