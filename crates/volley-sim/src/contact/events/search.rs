@@ -709,7 +709,7 @@ fn refine_graze(f: &mut Found, n: DVec3, seg: &Segment, path: &mut impl FnMut(f6
     let rate = |s: &BodyState| n.dot(s.mv * inv);
     let (a, b) = (path(lo), path(hi));
     let (ra, rb) = (rate(&a), rate(&b));
-    if !(ra * rb < 0.0) {
+    if ra * rb >= 0.0 || (ra * rb).is_nan() {
         // No sign change of the rate inside: the tangent is a Newton step away at the
         // segment's mean acceleration along the normal (a touch on the segment's end).
         let accel = n.dot((seg.end.mv - seg.start.mv) * inv) / seg.duration;
