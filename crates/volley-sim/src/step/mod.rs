@@ -58,10 +58,8 @@ impl World {
                 return Err(self.stop(i, DivergenceCause::NonFinite));
             }
             if self.stage == Stage::Events {
+                // A stop takes effect at the end of the tick: its other substeps still run.
                 self.after_events(first_event);
-                if self.halt != Halt::Running {
-                    break;
-                }
             }
             if motor {
                 // The next step's start, formed as that step forms it.

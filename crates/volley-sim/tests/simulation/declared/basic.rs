@@ -220,3 +220,30 @@ fn the_run_stops_at_the_nth_occurrence_and_the_count_is_state() {
     }
     assert!(other.stopped().unwrap().tick < stop.tick);
 }
+
+#[test]
+fn a_run_stopped_inside_a_tick_of_substeps_still_ends_that_tick() {
+    // Four substeps of 0.075 s a tick: the apex at 2 s (20 m/s up under 10 m/s^2) falls in
+    // the third of tick 7's (1.8 s to 2.1 s); the world stops at that tick's end, with the bits
+    // of the same run without the event at that tick.
+    let body = "bodies: [(mass: 1, position: (0, 0, 0), launch: Velocity((1, 0, 20)))]";
+    let base = format!(
+        "Scene(dt: 0.3, substeps: 4, integrator: Rk4, forces: [Gravity((0, 0, -10))], {body}"
+    );
+    let plain = parse(&format!("{base})"));
+    let stopping = parse(&format!("{base}, events: [(when: Apex, stop: Run(1))])"));
+    let mut world = World::new(&stopping);
+    let mut free = World::new(&plain);
+    while world.stopped().is_none() && world.tick() < 100 {
+        world.step().unwrap();
+        free.step().unwrap();
+    }
+    let stop = world.stopped().expect("the apex stops the run");
+    assert!((stop.time - 2.0).abs() < 1e-9, "{stop}");
+    assert_eq!((world.tick(), stop.tick), (7, 7));
+    assert_eq!(free.tick(), world.tick());
+    assert_eq!(
+        volley_sim::state_hash(&world),
+        volley_sim::state_hash(&free)
+    );
+}
