@@ -9,7 +9,7 @@
 
 use std::io::Write;
 
-use volley_sim::internals::contact::{Event, EventKind};
+use volley_sim::internals::contact::{Event, EventKind, EventSpec};
 use volley_sim::internals::sim_loop::{ObserverError, TickObserver};
 use volley_sim::internals::world::World;
 
@@ -176,11 +176,26 @@ impl<W: Write> TableWriter<W> {
 
     /// The events of the world's last tick.
     pub fn events(&mut self, events: &[Event]) -> Result<(), ObserverError> {
+        self.events_of(events, &[])
+    }
+
+    /// The events of the world's last tick, declared ones named from `specs` (the scene's
+    /// events).
+    pub fn events_of(
+        &mut self,
+        events: &[Event],
+        specs: &[EventSpec],
+    ) -> Result<(), ObserverError> {
         for e in events {
             let line = match self.format {
-                Format::Table => format!("event {}", describe(e)),
-                Format::Csv => format!("# event {}", describe(e)),
-                Format::Json => serde_json::json!({ "event": e }).to_string(),
+                Format::Table => format!("event {}", describe_in(e, specs)),
+                Format::Csv => format!("# event {}", describe_in(e, specs)),
+                Format::Json => match (e.kind, specs.get(declared_index(e))) {
+                    (EventKind::Declared { .. }, Some(spec)) => {
+                        serde_json::json!({ "event": e, "name": spec.label() }).to_string()
+                    }
+                    _ => serde_json::json!({ "event": e }).to_string(),
+                },
             };
             writeln!(self.out, "{line}").map_err(io)?;
         }
@@ -191,7 +206,7 @@ impl<W: Write> TableWriter<W> {
     #[cold]
     #[inline(never)]
     fn write_tick(&mut self, world: &World, row: bool) -> Result<(), ObserverError> {
-        self.events(world.events())?;
+        self.events_of(world.events(), world.declared_events().specs())?;
         if row {
             self.rows(world)?;
         }
@@ -231,8 +246,8 @@ impl<W: Write> TickObserver for TableWriter<W> {
         Ok(())
     }
 
-    /// The next row's tick; none without rows (events come only from contacts, and the loop
-    /// steps worlds with contacts tick by tick).
+    /// The next row's tick; none without rows (events come only from contacts and declared
+    /// events, and the loop steps worlds with either tick by tick).
     fn next_needed_tick(&self, tick: u64) -> u64 {
         if self.rows {
             volley_sim::internals::sim_loop::next_multiple(tick, self.every)
@@ -240,6 +255,44 @@ impl<W: Write> TickObserver for TableWriter<W> {
             u64::MAX
         }
     }
+}
+
+/// The index of a declared event's declaration (past every index otherwise).
+fn declared_index(e: &Event) -> usize {
+    match e.kind {
+        EventKind::Declared { event, .. } => event as usize,
+        _ => usize::MAX,
+    }
+}
+
+/// One line describing an event, for people; a declared event named by its declaration in
+/// `specs` (the scene's events), by its index without it.
+pub fn describe_in(e: &Event, specs: &[EventSpec]) -> String {
+    if let EventKind::Declared {
+        event,
+        direction,
+        graze,
+        state,
+    } = e.kind
+    {
+        let head = format!("tick {} t={:.9} s body {}", e.tick, e.time, e.body);
+        let name = specs
+            .get(event as usize)
+            .map_or_else(|| format!("event {event}"), EventSpec::label);
+        let (p, mv) = (state.p, state.mv);
+        return format!(
+            "{head}: {name} {}{} at p=({:.6}, {:.6}, {:.6}) m, mV=({:.6}, {:.6}, {:.6}) kg m/s",
+            direction.name(),
+            if graze { " (graze)" } else { "" },
+            p.x,
+            p.y,
+            p.z,
+            mv.x,
+            mv.y,
+            mv.z
+        );
+    }
+    describe(e)
 }
 
 /// One line describing an event, for people.
@@ -264,5 +317,6 @@ pub fn describe(e: &Event) -> String {
             "{head}: closest approach to target {target}: {distance:.6} m{}",
             if hit { " (hit)" } else { " (miss)" }
         ),
+        EventKind::Declared { .. } => describe_in(e, &[]),
     }
 }

@@ -11,7 +11,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 /// The mechanical state of one body in the seed's form: momentum and position.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct BodyState {
     /// Position p (m).
     pub p: DVec3,

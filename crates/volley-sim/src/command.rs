@@ -226,7 +226,7 @@ impl World {
                 self.state.launcher = self.scene.launcher;
                 self.state.rng = crate::world::SplitMix64(self.scene.seed);
                 self.populate();
-                self.diverged = None;
+                self.halt = crate::world::Halt::Running;
             }
         }
         self.carry_valid = false;

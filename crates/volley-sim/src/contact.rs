@@ -16,6 +16,7 @@ use crate::body::{BodyId, BodyState, Mass};
 use crate::integrate::Scheme;
 
 mod bvh;
+mod events;
 mod heightfield;
 mod level;
 mod level_contact;
@@ -30,6 +31,8 @@ use resting::{clamp_outside, settle};
 pub(crate) use roots::bracketed_root;
 
 pub use bvh::{Aabb, Bvh, LEAF_SIZE};
+pub use events::search::MAX_CROSSINGS;
+pub use events::{EventCondition, EventDirection, EventSet, EventSpec, EventStop};
 pub use heightfield::GridIndex;
 pub use level::{
     BLOCK, HeightGrid, HeightfieldSurface, LevelSource, MeshGeometry, MeshSurface, Transform,
@@ -59,14 +62,20 @@ pub(crate) struct StepContext<'a> {
     /// Whether the scene has level surfaces ([`Contacts::has_levels`]), read once a tick: the
     /// kernel picks its `LEVELS` version by it ([`needs_resolution`]), so no body-step tests it.
     pub levels: bool,
+    /// Bodies spawned since the last tick, in id order, for a step with declared events (their
+    /// first segment reports a function exactly zero at its start); empty otherwise.
+    pub fresh: &'a [BodyId],
 }
 
 /// The body being resolved.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 pub(crate) struct Particle {
     pub id: BodyId,
     pub w: Mass,
     pub r: f64,
+    /// Spawned since the last tick: its first segment reports a declared event whose function
+    /// is exactly zero at its start.
+    pub fresh: bool,
 }
 
 /// Most surface impacts resolved inside one step before the rest is clamped.
@@ -189,21 +198,32 @@ fn approach_rate(t: &Target, c: DVec3, s: &BodyState, inv_m: f64) -> f64 {
 
 /// Resolves contacts for one body over one step that went from `s0` (carried force `c0`) to
 /// `s1` (`c1`) under `scheme`. Returns the corrected end state and carry, and the number of
-/// extra force evaluations spent; pushes events to `out`.
-/// `LEVELS` as in [`needs_resolution`].
-pub(crate) fn resolve<S: Scheme, const LEVELS: bool>(
+/// extra force evaluations spent; pushes events to `out`. With `EVENTS`, the declared events
+/// are looked for on every segment of the path (their force evaluations added to
+/// `event_evals`, apart from the step's); swept detection only (discrete detection's step is
+/// searched whole by the caller, before the push-out). `LEVELS` as in [`needs_resolution`].
+pub(crate) fn resolve<S: Scheme, const LEVELS: bool, const EVENTS: bool>(
     scheme: &S,
     ctx: &StepContext,
     body: Particle,
     (s0, c0): (BodyState, DVec3),
     (s1, c1): (BodyState, DVec3),
     out: &mut Vec<Event>,
+    event_evals: &mut u64,
 ) -> (BodyState, DVec3, u64) {
     match ctx.contacts.detection {
         Detection::Swept => {
             // Level surfaces' work compiled in only for scenes with levels: a scene of planes
             // steps as it did before levels existed.
-            let (s, c, n) = resolve_swept::<S, LEVELS>(scheme, ctx, body, (s0, c0), (s1, c1), out);
+            let (s, c, n) = resolve_swept::<S, LEVELS, EVENTS>(
+                scheme,
+                ctx,
+                body,
+                (s0, c0),
+                (s1, c1),
+                out,
+                event_evals,
+            );
             if n > MAX_CONTACT_EVALS {
                 return (SPENT, c, n);
             }
@@ -216,13 +236,79 @@ pub(crate) fn resolve<S: Scheme, const LEVELS: bool>(
     }
 }
 
-fn resolve_swept<S: Scheme, const LEVELS: bool>(
+/// The declared events on the segment from `a` (carried force `ca`) at `elapsed` s into the
+/// step, over `duration`, to `b`: the path is the scheme's partial step from `a`. Its force
+/// evaluations go to `event_evals`, at most [`MAX_CONTACT_EVALS`] (past them the path is
+/// reported non-finite and the search ends without more events).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn events_on_segment<S: Scheme>(
+    scheme: &S,
+    ctx: &StepContext,
+    body: Particle,
+    elapsed: f64,
+    (a, ca): (BodyState, DVec3),
+    duration: f64,
+    b: BodyState,
+    out: &mut Vec<Event>,
+    event_evals: &mut u64,
+) {
+    let seg = events::search::Segment {
+        tick: ctx.tick,
+        t0: ctx.t0 + elapsed,
+        since: ctx.since_start + elapsed,
+        duration,
+        body,
+        start: a,
+        end: b,
+        fresh: body.fresh && elapsed == 0.0,
+    };
+    let mut spent = 0u64;
+    let mut path = |tau: f64| {
+        if spent > MAX_CONTACT_EVALS {
+            return SPENT;
+        }
+        let (s, _, n) = scheme.step_counted(a, body.w, ctx.t0 + elapsed, tau, ca);
+        spent += n;
+        s
+    };
+    events::search::on_segment(scheme, &ctx.contacts.events, &seg, &mut path, out);
+    *event_evals += spent;
+}
+
+/// The declared events on a whole step from `a` to `b` of a scheme that kept the step's
+/// continuous extension in `dense` ([`Scheme::DENSE`]): the path is the extension, at no force
+/// evaluation.
+pub(crate) fn events_on_dense_step<S: Scheme>(
+    scheme: &S,
+    ctx: &StepContext,
+    body: Particle,
+    (a, b): (BodyState, BodyState),
+    dense: &crate::integrate::Dense,
+    out: &mut Vec<Event>,
+) {
+    let seg = events::search::Segment {
+        tick: ctx.tick,
+        t0: ctx.t0,
+        since: ctx.since_start,
+        duration: ctx.h,
+        body,
+        start: a,
+        end: b,
+        fresh: body.fresh,
+    };
+    let mut path = |tau: f64| dense.at(tau);
+    events::search::on_segment(scheme, &ctx.contacts.events, &seg, &mut path, out);
+}
+
+#[allow(clippy::too_many_arguments)]
+fn resolve_swept<S: Scheme, const LEVELS: bool, const EVENTS: bool>(
     scheme: &S,
     ctx: &StepContext,
     body: Particle,
     (mut s, mut c): (BodyState, DVec3),
     (mut end, mut end_c): (BodyState, DVec3),
     out: &mut Vec<Event>,
+    event_evals: &mut u64,
 ) -> (BodyState, DVec3, u64) {
     let mut evals = 0u64;
     let mut elapsed = 0.0; // time from the step start to the segment start
@@ -310,6 +396,23 @@ fn resolve_swept<S: Scheme, const LEVELS: bool>(
             out,
             &mut evals,
         );
+        if EVENTS {
+            let seg_body = Particle {
+                fresh: body.fresh && elapsed == 0.0,
+                ..body
+            };
+            events_on_segment(
+                scheme,
+                ctx,
+                seg_body,
+                elapsed,
+                (s, c),
+                cut,
+                at_cut.0,
+                out,
+                event_evals,
+            );
+        }
         let Some((tau, plane)) = first else {
             return (end, end_c, evals);
         };
@@ -345,15 +448,15 @@ fn resolve_swept<S: Scheme, const LEVELS: bool>(
                         },
                     });
                 }
-                let at = (ctx.t0 + elapsed, remaining);
-                let (s, c) = settle::<S, LEVELS>(
+                let at = (elapsed, remaining);
+                let (s, c) = settle::<S, LEVELS, EVENTS>(
                     scheme,
                     ctx,
                     body,
                     plane,
                     (s, c),
                     at,
-                    &mut evals,
+                    (&mut evals, event_evals),
                     out,
                     cands.as_ref(),
                 );
@@ -361,15 +464,15 @@ fn resolve_swept<S: Scheme, const LEVELS: bool>(
             }
         } else if -mv_n * body.w.inv <= ctx.rest_speed && tau == 0.0 {
             // Resting contact: slide along the surface for the rest of the step.
-            let at = (ctx.t0 + elapsed, remaining);
-            let (s, c) = settle::<S, LEVELS>(
+            let at = (elapsed, remaining);
+            let (s, c) = settle::<S, LEVELS, EVENTS>(
                 scheme,
                 ctx,
                 body,
                 plane,
                 (s, c),
                 at,
-                &mut evals,
+                (&mut evals, event_evals),
                 out,
                 cands.as_ref(),
             );

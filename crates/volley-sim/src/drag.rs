@@ -95,6 +95,8 @@ pub struct DragTable {
     first_segment: Vec<u32>,
     /// Cells per unit Mach.
     cells_per_mach: f64,
+    /// [`DragTable::rate_bound`], computed once.
+    rate_bound: f64,
 }
 
 /// Cells in a table's segment index: finer than the closest points of the standard tables
@@ -134,12 +136,19 @@ impl DragTable {
                 (mach.partition_point(|&x| x <= start) - 1).min(mach.len() - 2) as u32
             })
             .collect();
+        // Between two points the curve's slope is at most 3 times the secant's (PCHIP's
+        // limit; the straight line's is the secant), at Mach numbers up to the segment's end.
+        let cd_max = cd.iter().copied().fold(0.0, f64::max);
+        let stretch = (0..mach.len() - 1)
+            .map(|i| mach[i + 1] * 3.0 * ((cd[i + 1] - cd[i]) / (mach[i + 1] - mach[i])).abs())
+            .fold(0.0, f64::max);
         Ok(DragTable {
             mach,
             cd,
             slope,
             first_segment,
             cells_per_mach,
+            rate_bound: 2.0 * cd_max + stretch,
         })
     }
 
@@ -161,6 +170,14 @@ impl DragTable {
         SPHERE.get_or_init(|| {
             DragTable::new(&standard::SPHERE).expect("the sphere table is a valid table")
         })
+    }
+
+    /// A bound on `2 Cd + M |dCd/dM|` over the whole curve, PCHIP or straight lines between
+    /// the points: how fast the drag `Cd(M) |u| u` can change with the velocity through the
+    /// air, per unit of `|u|` (the derivative's norm is at most `|u| (2 Cd + M Cd')`). The
+    /// event search's curvature margin under a Mach drag takes it from here.
+    pub fn rate_bound(&self) -> f64 {
+        self.rate_bound
     }
 
     /// The points, in order.

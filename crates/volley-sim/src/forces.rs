@@ -21,6 +21,7 @@ mod custom;
 mod fast_path;
 mod kind;
 mod mach_drag;
+mod rates;
 mod thrust;
 
 pub use custom::{CustomForce, CustomForceError, ForceInput, ForceTerm, ForceTerms, Reads};
@@ -30,6 +31,7 @@ pub use mach_drag::{
     AirModel, DragCurve, DragSize, KG_M2_PER_LB_IN2, LiftModel, MachDrag, NATHAN_DECAY_SPEED,
     RAD_S_PER_RPM, SpinDecay, SpinLift, Wind,
 };
+pub use rates::{Rates, Reach};
 pub use thrust::{Thrust, ThrustCurve, ThrustCurveError, ThrustDirection};
 
 /// Net force on one body, the only physics a step needs from a force description.
@@ -85,6 +87,19 @@ pub trait ForceModel: Sync {
     #[inline(always)]
     fn lone_point_mass(&self) -> Option<PointMass> {
         None
+    }
+    /// Bounds on how fast the acceleration can change along a piece of path within `reach`
+    /// ([`Rates`]), for the event search's margins. The linear part's coefficients by default:
+    /// exact for the fast paths (gravity and a constant force: none; linear drag: `b/m`).
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        let _ = reach;
+        let l = self.linear_part(w.m);
+        Rates {
+            p: l.w2,
+            v: l.kd,
+            t: 0.0,
+        }
     }
 }
 
@@ -386,6 +401,10 @@ impl Forces {
 
 impl ForceModel for Forces {
     const READS_LAUNCH: bool = true;
+
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.rates_over(reach, w)
+    }
 
     /// Every term but those that need the time or the launch ([`ForceModel::force_at`]): a
     /// game's own, a spun Mach drag (the whole term) and a motor.

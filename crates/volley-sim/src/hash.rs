@@ -8,6 +8,9 @@
 //! per body in id order:  id:u64  p.x p.y p.z  mV.x mV.y mV.z  mass  radius   (f64 bit patterns)
 //! ```
 //!
+//! A world whose declared events keep counts (events that stop after more than one occurrence)
+//! hashes that digest again with the counts (`with_tallies`).
+//!
 //! Floats are canonicalised first: `-0.0` hashes as `+0.0` and every NaN as the quiet NaN
 //! `0x7ff8_0000_0000_0000`, so states that compare equal hash equal. The hash covers everything
 //! that decides the future of the bodies; settings changed by commands (integrator, force
@@ -84,6 +87,33 @@ const BLOCK: usize = 64;
 /// assert_eq!(volley_sim::internals::hash::hex(state_hash(&a)).len(), 18); // 0x and 16 hex digits
 /// ```
 pub fn state_hash(world: &World) -> u64 {
+    let h = bodies_hash(world);
+    let tallies = &world.state().tallies;
+    if tallies.is_empty() {
+        h
+    } else {
+        with_tallies(h, tallies)
+    }
+}
+
+/// The hash of a world whose declared events keep counts ([`crate::world::Tallies`]): XXH3-64
+/// of `"VOLLEY-TALLIES-v1"`, the bodies' hash, the two lengths and every count (u64 each,
+/// little-endian), so a world without counts hashes as it did before declared events.
+fn with_tallies(h: u64, t: &crate::world::Tallies) -> u64 {
+    let mut x = Xxh3::new();
+    x.update(b"VOLLEY-TALLIES-v1");
+    x.update(&h.to_le_bytes());
+    x.update(&(t.per_body.len() as u64).to_le_bytes());
+    x.update(&(t.run.len() as u64).to_le_bytes());
+    for c in t.per_body.iter().chain(&t.run) {
+        x.update(&u64::from(*c).to_le_bytes());
+    }
+    x.digest()
+}
+
+/// The hash of the tick, the generator and the bodies.
+#[inline]
+fn bodies_hash(world: &World) -> u64 {
     match world.bodies().len() {
         0..=1 => one_shot::<{ HEAD_BYTES + BODY_BYTES }>(world),
         2 => one_shot::<{ HEAD_BYTES + 2 * BODY_BYTES }>(world),

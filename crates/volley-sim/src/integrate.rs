@@ -13,10 +13,12 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 pub use crate::body::{BodyState, Launch, Mass};
-use crate::forces::{DragField, ForceModel, Forces};
+use crate::forces::{DragField, ForceModel, Forces, Rates, Reach};
 
 mod dopri;
 mod schemes;
+
+pub(crate) use dopri::Dense;
 
 use schemes::*;
 
@@ -279,6 +281,34 @@ pub(crate) trait Scheme: Sync {
     /// Whether the evaluations per step vary (Dormand-Prince): then callers count them with
     /// [`Scheme::step_counted`] instead of [`Scheme::EVALS`].
     const ADAPTIVE: bool = false;
+    /// How the partial step's path bends against the acceleration: `P'' = CURVATURE a`. 1 for
+    /// the schemes that follow the flow (exact under constant force); 2 for semi-implicit and
+    /// implicit Euler, whose partial step moves with its end velocity (`p0 + tau V0 +
+    /// tau^2 a`); 0 for explicit Euler's straight line.
+    const CURVATURE: f64 = 1.0;
+    /// Whether a partial step from a state changes the velocity at the start's acceleration,
+    /// whatever the forces (explicit and semi-implicit Euler: `mV0 + tau F(s0)`): then along a
+    /// segment the velocity is linear in time and the position a polynomial, exactly.
+    const CONSTANT_ACCEL_PATH: bool = false;
+    /// Whether [`Scheme::step_dense`] keeps a continuous extension of the step (Dormand-Prince).
+    const DENSE: bool = false;
+    /// The force model's [`ForceModel::rates`] over `reach` (the event search's margins).
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates;
+    /// [`Scheme::step_counted`], keeping the step's continuous extension in `dense` where the
+    /// scheme has one ([`Scheme::DENSE`]): the same bits, no more evaluations.
+    #[inline(always)]
+    fn step_dense(
+        &self,
+        s: BodyState,
+        w: Mass,
+        t: f64,
+        h: f64,
+        carry: DVec3,
+        dense: &mut Dense,
+    ) -> (BodyState, DVec3, u64) {
+        dense.clear();
+        self.step_counted(s, w, t, h, carry)
+    }
     /// Advances one body of mass `w` by `h`. `carry` is the force at the start state when
     /// [`Scheme::CARRIES_FORCE`], otherwise unused; the returned force is the end state's.
     /// `t` is the step's start on the world's clock (s), read only by a time-dependent term.

@@ -34,7 +34,10 @@
 //!   [`ForceInput`]); contacts ([`Ground`], [`Wall`], [`Target`], [`Detection`]), level
 //!   surfaces ([`MeshSurface`] of a [`MeshGeometry`], [`HeightfieldSurface`] of a
 //!   [`HeightGrid`], placed by a [`Transform`], read from a [`LevelSource`], refused with a
-//!   [`LevelError`]) and what they report ([`Event`], [`EventKind`], [`Surface`]).
+//!   [`LevelError`]) and what they report ([`Event`], [`EventKind`], [`Surface`]); declared
+//!   events ([`EventSpec`]: an [`EventCondition`], an [`EventDirection`], an [`EventStop`];
+//!   the scene's [`EventSet`]), found on every body's own path with their exact time and
+//!   state, the run they stop ([`RunStop`]) and their counts ([`Tallies`]).
 //! - **The loop and the draw**: [`SimLoop`] and its [`TickObserver`]s, the [`FixedClock`] with
 //!   its [`LoopPolicy`], frame sources ([`RealClock`], [`VirtualClock`]), and where to draw
 //!   between ticks in one call, [`Draw`] (its [`DrawMode`]s; Volley's measured defaults
@@ -243,8 +246,9 @@ pub use command::{
     Stamped, parse_script,
 };
 pub use contact::{
-    Aabb, Contacts, Detection, Event, EventKind, Ground, HeightGrid, HeightfieldSurface,
-    LevelSource, MeshGeometry, MeshSurface, Surface, Target, Transform, Wall,
+    Aabb, Contacts, Detection, Event, EventCondition, EventDirection, EventKind, EventSet,
+    EventSpec, EventStop, Ground, HeightGrid, HeightfieldSurface, LevelSource, MeshGeometry,
+    MeshSurface, Surface, Target, Transform, Wall,
 };
 pub use drag::{DragTable, DragTableError, Interpolation};
 pub use draw::{DEFAULT_DRAW, DEFAULT_POLICY, Draw, DrawAt, DrawMode, LEAD_WINDOW, Lead};
@@ -269,8 +273,8 @@ pub use replay::{
 pub use rng::SplitMix64;
 pub use scene::{
     BodySpec, CompareLane, Guard, IntegratorError, InvalidValue, Launcher, LevelError, MAX_BODIES,
-    MAX_COMPARE_LANES, MAX_SUBSTEPS, MAX_TICK_WORK, MAX_VOLLEY, MIN_TOLERANCE, Scene, SceneBuilder,
-    SceneError, ValueProblem, Volley, bundled as bundled_scene, load as load_scene,
+    MAX_COMPARE_LANES, MAX_EVENTS, MAX_SUBSTEPS, MAX_TICK_WORK, MAX_VOLLEY, MIN_TOLERANCE, Scene,
+    SceneBuilder, SceneError, ValueProblem, Volley, bundled as bundled_scene, load as load_scene,
     load_with as load_scene_with, parse as parse_scene, parse_with as parse_scene_with,
 };
 pub use sim_loop::{LoopError, ObserverError, SimLoop, TickObserver};
@@ -280,7 +284,8 @@ pub use synctest::{
 };
 pub use timeline::{SeekError, Timeline};
 pub use world::{
-    Divergence, DivergenceCause, MAX_COUNT, Params as WorldParams, RestoreError, State, World,
+    Divergence, DivergenceCause, MAX_COUNT, Params as WorldParams, RestoreError, RunStop, State,
+    Tallies, World,
 };
 
 // docs/library.md's examples, compiled and run as doc tests so the page cannot go stale.

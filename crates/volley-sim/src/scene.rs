@@ -10,7 +10,10 @@ use std::time::Duration;
 use glam::DVec3;
 use serde::Deserialize;
 
-use crate::contact::{Detection, Ground, HeightfieldSurface, MeshSurface, Target, Wall};
+use crate::contact::{
+    Detection, EventCondition, EventDirection, EventSpec, EventStop, Ground, HeightfieldSurface,
+    MeshSurface, Target, Wall,
+};
 use crate::drag::Interpolation;
 use crate::exact::{AimError, Arc, aim};
 use crate::forces::{
@@ -72,6 +75,10 @@ pub const MAX_TICK_WORK: u64 = 100_000_000;
 /// Most compare lanes a scene (`compare`) or `--compare` may ask for: each lane is a whole world.
 pub const MAX_COMPARE_LANES: usize = 16;
 
+/// Most events a scene may declare: each is searched for on every body's every step, and
+/// each that stops after more than one occurrence is a count every body keeps.
+pub const MAX_EVENTS: usize = 64;
+
 /// A scene after parsing and validation; everything a [`crate::World`] is built from.
 ///
 /// Checked once and never changed after: its fields are read through methods, and a change
@@ -131,6 +138,8 @@ pub struct Scene {
     /// Lanes the window opens in compare mode (empty: one lane); headless runs ignore it and
     /// step [`Scene::integrator`].
     pub(crate) compare: Vec<CompareLane>,
+    /// Declared events, in order (an event names its declaration by the index here).
+    pub(crate) events: Vec<EventSpec>,
 }
 
 impl Scene {
@@ -255,6 +264,13 @@ impl Scene {
     #[inline]
     pub fn compare(&self) -> &[CompareLane] {
         &self.compare
+    }
+
+    /// Declared events, in order (an [`crate::EventKind::Declared`] names its declaration by
+    /// the index here).
+    #[inline]
+    pub fn events(&self) -> &[EventSpec] {
+        &self.events
     }
 }
 

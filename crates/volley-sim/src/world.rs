@@ -5,7 +5,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 pub use crate::body::{Bodies, BodyId, COLUMNS, Vec3s};
-use crate::contact::{Contacts, Event};
+use crate::contact::{Contacts, Event, EventKind, EventSet, EventStop};
 use crate::forces::Forces;
 use crate::integrate::Integrator;
 pub use crate::rng::SplitMix64;
@@ -87,6 +87,52 @@ pub struct State {
     /// [`World::snapshot`] returns, it is there only when it is valid and empty otherwise; in a
     /// world it is a buffer whose validity the world tracks.
     pub carry: Vec3s,
+    /// How often the declared events that stop after more than one occurrence have occurred
+    /// ([`Tallies`]); empty in a scene without such an event.
+    pub tallies: Tallies,
+}
+
+/// How often each declared event that stops a body or the run after its `n`-th occurrence
+/// (`n` > 1) has occurred so far: state, since it decides when a body or the run stops. Empty
+/// in a scene without such an event, whose keyframes and hashes are then what they were before
+/// events.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Tallies {
+    /// Per body, in body order, one count per body-stopping event with `n` > 1 (the
+    /// scene's [`EventSet::body_slots`]): `per_body[i * slots + k]`.
+    pub per_body: Vec<u32>,
+    /// One count per run-stopping event with `n` > 1 ([`EventSet::run_slots`]).
+    pub run: Vec<u32>,
+}
+
+impl Tallies {
+    /// Whether there is nothing to count.
+    pub fn is_empty(&self) -> bool {
+        self.per_body.is_empty() && self.run.is_empty()
+    }
+}
+
+/// Where a declared event stopped the run ([`EventStop::Run`]): the world steps no further.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunStop {
+    /// The tick whose step held the event (the world stays at it).
+    pub tick: u64,
+    /// Sim time of the event (s).
+    pub time: f64,
+    /// The body it happened to.
+    pub body: BodyId,
+    /// Index of the event in the scene's `events`.
+    pub event: u32,
+}
+
+impl std::fmt::Display for RunStop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "stopped at tick {} by event {} (body {}, t = {} s)",
+            self.tick, self.event, self.body, self.time
+        )
+    }
 }
 
 impl State {
@@ -97,6 +143,8 @@ impl State {
         (self.tick, self.next_id, self.rng) = (src.tick, src.next_id, src.rng);
         (self.integrator, self.forces) = (src.integrator, src.forces.clone());
         (self.launcher, self.force_evals) = (src.launcher, src.force_evals);
+        self.tallies.per_body.clone_from(&src.tallies.per_body);
+        self.tallies.run.clone_from(&src.tallies.run);
         self.bodies.id.clone_from(&src.bodies.id);
         for column in &COLUMNS {
             column
@@ -150,9 +198,81 @@ impl Params {
                 meshes: scene.meshes.clone(),
                 heightfields: scene.heightfields.clone(),
                 detection: scene.detection,
+                events: EventSet::prepare(
+                    &scene.events,
+                    (scene.launcher.position, scene.launcher.azimuth_deg),
+                    &scene.targets,
+                    scene.forces.mach_drag.as_ref(),
+                ),
             },
             guard: scene.guard,
             declared: scene.forces.clone(),
+        }
+    }
+}
+
+impl World {
+    /// After a substep with declared events, from the `first` of its events on: each event
+    /// that stops counts, a body whose event stops it leaves the world (its later events in the
+    /// tick dropped), and an event that stops the run marks the world stopped.
+    pub(crate) fn apply_stops(&mut self, first: usize) {
+        let events = &self.params.contacts.events;
+        if !events.stops() {
+            return;
+        }
+        let slots = events.body_slots();
+        let mut leaving: Vec<(BodyId, f64)> = Vec::new();
+        let mut kept = first;
+        for k in first..self.scratch.events.len() {
+            let e = self.scratch.events[k];
+            if leaving.iter().any(|(id, t)| *id == e.body && e.time > *t) {
+                continue;
+            }
+            self.scratch.events[kept] = e;
+            kept += 1;
+            let EventKind::Declared { event, .. } = e.kind else {
+                continue;
+            };
+            let spec = &events.specs()[event as usize];
+            let reached = |count: &mut u32, n: u32| {
+                *count += 1;
+                *count >= n
+            };
+            match spec.stop {
+                EventStop::Never => {}
+                EventStop::Body(n) => {
+                    let stop = match events.body_slot(event as usize) {
+                        Some(slot) if n > 1 => {
+                            let i = self.state.bodies.index_of(e.body);
+                            i.is_some_and(|i| {
+                                reached(&mut self.state.tallies.per_body[i * slots + slot], n)
+                            })
+                        }
+                        _ => true,
+                    };
+                    if stop && !leaving.iter().any(|(id, _)| *id == e.body) {
+                        leaving.push((e.body, e.time));
+                    }
+                }
+                EventStop::Run(n) => {
+                    let stop = match events.run_slot(event as usize) {
+                        Some(slot) if n > 1 => reached(&mut self.state.tallies.run[slot], n),
+                        _ => true,
+                    };
+                    if stop && self.halt == Halt::Running {
+                        self.halt = Halt::Stopped(RunStop {
+                            tick: e.tick,
+                            time: e.time,
+                            body: e.body,
+                            event,
+                        });
+                    }
+                }
+            }
+        }
+        self.scratch.events.truncate(kept);
+        for (id, _) in leaving {
+            self.despawn(id);
         }
     }
 }
@@ -166,6 +286,9 @@ pub(crate) struct Scratch {
     pub(crate) chunk_events: Vec<Vec<Event>>,
     /// The state a batch of ticks started from ([`World::step_ticks`]); grown on first use.
     pub(crate) batch_backup: BatchBackup,
+    /// Bodies spawned since the last tick, in id order, in a world with declared events: their
+    /// first segment reports an event whose function is zero at the spawn.
+    pub(crate) fresh: Vec<BodyId>,
 }
 
 /// The state [`World::step_ticks`] saves before a batch, to undo it.
@@ -216,12 +339,56 @@ pub struct World {
     pub(crate) scratch: Scratch,
     /// Whether `state.carry` holds velocity Verlet's force from the last step.
     pub(crate) carry_valid: bool,
-    /// The divergence that stopped the run, if any.
-    pub(crate) diverged: Option<Divergence>,
+    /// Whether the run goes on, or what stopped it (a divergence, a declared event).
+    pub(crate) halt: Halt,
     /// Worker threads (a runtime knob: the bits do not depend on it).
     pub(crate) threads: usize,
+    /// Which per-body loop the step runs (fixed by the scene).
+    pub(crate) kind: LoopKind,
+    /// Force evaluations the declared events' search has spent (not counted in
+    /// [`World::force_evals`], which the stepping alone decides).
+    pub(crate) event_evals: u64,
     /// The active terms' facts ([`ForceFacts`]), kept with them.
     pub(crate) facts: ForceFacts,
+}
+
+/// Which per-body loop a world's step runs, fixed by its scene: no contact stage at all,
+/// contacts only, or contacts and declared events. (The sync test's [`crate::step::Stage`] is
+/// a stage *of* a tick; this is the kind of loop the whole tick runs.)
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum LoopKind {
+    /// Neither contacts nor events.
+    #[default]
+    Bare,
+    /// Contacts, no declared events.
+    Contacts,
+    /// Declared events (and any contacts).
+    Events,
+}
+
+impl LoopKind {
+    /// The loop a scene's contacts and events need.
+    pub(crate) fn of(contacts: &crate::contact::Contacts) -> LoopKind {
+        if !contacts.events.is_empty() {
+            LoopKind::Events
+        } else if contacts.is_empty() {
+            LoopKind::Bare
+        } else {
+            LoopKind::Contacts
+        }
+    }
+}
+
+/// Whether a world steps on, or what stopped it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) enum Halt {
+    /// It steps.
+    #[default]
+    Running,
+    /// A divergence stopped it ([`World::divergence`]).
+    Diverged(Divergence),
+    /// A declared event stopped it ([`World::stopped`]).
+    Stopped(RunStop),
 }
 
 impl World {
@@ -249,14 +416,19 @@ impl World {
                 force_evals: 0,
                 bodies: Bodies::default(),
                 carry: Vec3s::default(),
+                tallies: Tallies::default(),
             },
             params: Params::of_scene(scene),
             scratch: Scratch::default(),
             carry_valid: false,
-            diverged: None,
+            halt: Halt::Running,
             threads: 1,
+            kind: LoopKind::Bare,
+            event_evals: 0,
             facts: ForceFacts::of(&scene.forces),
         };
+        world.kind = LoopKind::of(&world.params.contacts);
+        world.state.tallies.run = vec![0; world.params.contacts.events.run_slots()];
         world.populate();
         world
     }
@@ -302,6 +474,13 @@ impl World {
         let i = self.state.bodies.len() - 1;
         self.state.bodies.energy_cap[i] = self.energy_cap_of(i);
         self.carry_valid = false;
+        let events = &self.params.contacts.events;
+        if !events.is_empty() {
+            self.scratch.fresh.push(id);
+            let slots = events.body_slots();
+            let per_body = &mut self.state.tallies.per_body;
+            per_body.resize(per_body.len() + slots, 0);
+        }
         id
     }
 
@@ -310,6 +489,13 @@ impl World {
         match self.state.bodies.index_of(id) {
             Some(i) => {
                 self.state.bodies.remove(i);
+                let slots = self.params.contacts.events.body_slots();
+                if slots > 0 {
+                    self.state
+                        .tallies
+                        .per_body
+                        .drain(i * slots..(i + 1) * slots);
+                }
                 self.carry_valid = false;
                 true
             }
@@ -320,6 +506,7 @@ impl World {
     /// Removes every body (ids keep counting).
     pub fn clear_bodies(&mut self) {
         self.state.bodies.clear();
+        self.state.tallies.per_body.clear();
         self.carry_valid = false;
     }
 
@@ -436,7 +623,35 @@ impl World {
     /// The divergence that stopped the run, if any.
     #[inline]
     pub fn divergence(&self) -> Option<Divergence> {
-        self.diverged
+        match self.halt {
+            Halt::Diverged(d) => Some(d),
+            _ => None,
+        }
+    }
+
+    /// The declared event that stopped the run ([`EventStop::Run`]), if one did: the world
+    /// then steps no further ([`World::step`] returns at once).
+    #[inline]
+    pub fn stopped(&self) -> Option<RunStop> {
+        match self.halt {
+            Halt::Stopped(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// The scene's declared events.
+    #[inline]
+    pub fn declared_events(&self) -> &EventSet {
+        &self.params.contacts.events
+    }
+
+    /// Force evaluations the declared events' search has spent since the world was built: the
+    /// partial steps it took (none on Dormand-Prince's continuous extension). Not in
+    /// [`World::force_evals`], which is the stepping's alone and the same with or without
+    /// events.
+    #[inline]
+    pub fn event_evals(&self) -> u64 {
+        self.event_evals
     }
 
     /// The world's random generator (part of the hashed state).

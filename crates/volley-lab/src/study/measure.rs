@@ -216,7 +216,7 @@ pub(crate) fn run_point(
 }
 
 /// What an event is about, for matching: (body, 0 ground / 1 wall / 2 target hit / 3 target
-/// closest approach / 4 mesh / 5 heightfield, index).
+/// closest approach / 4 mesh / 5 heightfield / 6 declared event, index).
 fn key(e: &Event) -> Option<(BodyId, u8, u32)> {
     match e.kind {
         EventKind::Impact {
@@ -237,6 +237,7 @@ fn key(e: &Event) -> Option<(BodyId, u8, u32)> {
         } => Some((e.body, 5, surface)),
         EventKind::Hit { target } => Some((e.body, 2, target)),
         EventKind::Approach { target, .. } => Some((e.body, 3, target)),
+        EventKind::Declared { event, .. } => Some((e.body, 6, event)),
         EventKind::Rest { .. } => None,
     }
 }

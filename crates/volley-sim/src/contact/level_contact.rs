@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use super::bvh::Aabb;
 use super::level_query::{LevelTriangles, Skip};
-use super::roots::{Crossing, PathPoint, first_root, margin};
+use super::roots::{BallCrossing, OnBall, PathPoint, first_root, margin};
 use super::{Contacts, Plane, StepContext};
 use crate::body::BodyState;
 
@@ -52,7 +52,7 @@ struct LevelGap<'a, T: LevelTriangles> {
     skip: Option<Skip>,
 }
 
-impl<T: LevelTriangles> Crossing for LevelGap<'_, T> {
+impl<T: LevelTriangles> BallCrossing for LevelGap<'_, T> {
     #[inline]
     fn value(&mut self, s: &BodyState) -> f64 {
         let reach = 2.0 * self.r;
@@ -156,7 +156,15 @@ pub(crate) fn first_level_contact(
         s: end,
         value: gap.value(&end),
     };
-    let (lo, _) = first_root(path, inv_m, a, b, &mut gap)?;
+    let (lo, _) = first_root(
+        path,
+        a,
+        b,
+        &mut OnBall {
+            crossing: &mut gap,
+            inv_m,
+        },
+    )?;
     let n = tris.level_nearest(lo.s.p, 2.0 * r, skip)?;
     if n.normal == DVec3::ZERO {
         return None;

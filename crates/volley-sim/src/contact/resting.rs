@@ -17,20 +17,28 @@ use crate::integrate::Scheme;
 /// the body is stopped there, clamped, bounced off it and the rest of the step integrated
 /// again. The end is then pushed out of any level triangle it overlaps (a slope's next
 /// triangle, a corner's other face), its momentum into that triangle removed.
+///
+/// `at` is `(elapsed, remaining)`: the time from the step's start to the contact, and the rest
+/// of the step. With `EVENTS`, the declared events are looked for on the slide (the rest of the
+/// step, searched on the integrator's path from the contact with the normal momentum removed,
+/// ending at the clamped end), their evaluations in `evals.1`.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn settle<S: Scheme, const LEVELS: bool>(
+pub(super) fn settle<S: Scheme, const LEVELS: bool, const EVENTS: bool>(
     scheme: &S,
     ctx: &StepContext,
     body: Particle,
     plane: Plane,
     (mut s, mut c): (BodyState, DVec3),
-    (mut t, mut remaining): (f64, f64),
-    evals: &mut u64,
+    (elapsed, mut remaining): (f64, f64),
+    (evals, event_evals): (&mut u64, &mut u64),
     out: &mut Vec<Event>,
     cands: Option<&Candidates>,
 ) -> (BodyState, DVec3) {
+    let mut t = ctx.t0 + elapsed;
+    let mut slid = elapsed;
     let mv_n = plane.normal.dot(s.mv);
     s.mv -= mv_n * plane.normal;
+    let slide_start = (s, c);
     let step = |s: BodyState, c: DVec3, t: f64, tau: f64, evals: &mut u64| {
         if tau > 0.0 {
             let (end, end_c, n) = scheme.step_counted(s, body.w, t, tau, c);
@@ -101,6 +109,27 @@ pub(super) fn settle<S: Scheme, const LEVELS: bool>(
                 c = scheme.start_carry(s, body.w, t + tau);
                 *evals += 1;
             }
+            if EVENTS {
+                // The slide up to the wall it met, then on from there.
+                let (met_at, _, n) =
+                    scheme.step_counted(slide_start.0, body.w, t, tau, slide_start.1);
+                *event_evals += n;
+                super::events_on_segment(
+                    scheme,
+                    ctx,
+                    Particle {
+                        fresh: false,
+                        ..body
+                    },
+                    slid,
+                    slide_start,
+                    tau,
+                    met_at,
+                    out,
+                    event_evals,
+                );
+                slid += tau;
+            }
             t += tau;
             remaining -= tau;
             (end, end_c) = step(s, c, t, remaining, evals);
@@ -124,6 +153,23 @@ pub(super) fn settle<S: Scheme, const LEVELS: bool>(
     {
         end_c = scheme.start_carry(end, body.w, t + remaining);
         *evals += 1;
+    }
+    if EVENTS && remaining > 0.0 {
+        let from = if slid > elapsed { (s, c) } else { slide_start };
+        super::events_on_segment(
+            scheme,
+            ctx,
+            Particle {
+                fresh: body.fresh && slid == 0.0,
+                ..body
+            },
+            slid,
+            from,
+            remaining,
+            end,
+            out,
+            event_evals,
+        );
     }
     (end, end_c)
 }

@@ -1,5 +1,6 @@
 //! The first root of a function along a body's own curved path inside a step: the one search
-//! every swept query over the path uses (level surfaces now; user-declared events later).
+//! every swept query over the path uses: the level surfaces' contacts and the declared
+//! events ([`super::events`]).
 //!
 //! ## The path
 //! Inside a segment that starts at state `s0`, the body is at `P(tau) = step(s0, tau).p`: the
@@ -67,15 +68,59 @@ pub(crate) struct PathPoint {
     pub value: f64,
 }
 
-/// What the search looks for the first root of.
+/// What the search looks for the first root of: a function along the path and what can be
+/// said of a piece from its two ends.
 pub(crate) trait Crossing {
-    /// The function, continuous along the path; a root is where it goes from `> 0` to `<= 0`.
+    /// The function at time `tau` into the segment, in state `s`, continuous along the path; a
+    /// root is where it goes from `> 0` to `<= 0`.
+    fn value(&mut self, tau: f64, s: &BodyState) -> f64;
+    /// Whether the function can reach `<= 0` anywhere on the piece from `a` to `b` (both `> 0`
+    /// there); `false` only when certain.
+    fn possible(&mut self, a: &PathPoint, b: &PathPoint) -> bool;
+    /// Whether the piece from `a` (`> 0`) to `b` (`<= 0`) can be handed to the bracketed root
+    /// finder as it is: it holds one root, or two too close to tell apart.
+    fn bracketed(&mut self, a: &PathPoint, b: &PathPoint) -> bool;
+}
+
+/// A crossing of the position alone that answers for a ball (the level surfaces): the search
+/// asks it about the ball around the piece's chord midpoint of radius `|chord| / 2 + M`
+/// ([`margin`]), through [`OnBall`].
+pub(crate) trait BallCrossing {
+    /// The function at `s`, continuous along the path.
     fn value(&mut self, s: &BodyState) -> f64;
     /// Whether the function can reach zero anywhere in the ball `(center, radius)`; `false`
     /// only when certain.
     fn possible(&mut self, center: DVec3, radius: f64) -> bool;
     /// Path length (m) below which a piece with a root is bracketed at once.
     fn resolution(&self) -> f64;
+}
+
+/// A [`BallCrossing`] asked about the balls of a body of `1 / mass` `inv_m`.
+pub(crate) struct OnBall<'a, C> {
+    pub crossing: &'a mut C,
+    pub inv_m: f64,
+}
+
+impl<C: BallCrossing> Crossing for OnBall<'_, C> {
+    #[inline]
+    fn value(&mut self, _tau: f64, s: &BodyState) -> f64 {
+        self.crossing.value(s)
+    }
+
+    #[inline]
+    fn possible(&mut self, a: &PathPoint, b: &PathPoint) -> bool {
+        let m = margin(&a.s, &b.s, self.inv_m, b.tau - a.tau);
+        let chord = (b.s.p - a.s.p).length();
+        self.crossing
+            .possible(0.5 * (a.s.p + b.s.p), 0.5 * chord + m)
+    }
+
+    #[inline]
+    fn bracketed(&mut self, a: &PathPoint, b: &PathPoint) -> bool {
+        let m = margin(&a.s, &b.s, self.inv_m, b.tau - a.tau);
+        let chord = (b.s.p - a.s.p).length();
+        chord + m <= self.crossing.resolution()
+    }
 }
 
 /// The margin of the piece from `a` to `b`: how far its path may leave its chord (m).
@@ -86,17 +131,17 @@ pub(crate) fn margin(a: &BodyState, b: &BodyState, inv_m: f64, duration: f64) ->
     0.25 * SAFETY * dv * duration + rounding
 }
 
-/// The first root of `crossing` on the path from `a` (value `> 0`) to `b`, `path(tau)` being
-/// the state at `tau`. Returns the last point before it (value `> 0`, within a few ulps of time
-/// of the root) and the first at or after it, or `None` if the path stays clear.
+/// The first root of `crossing` on the path from `a` (value `> 0`; an event's search may start
+/// it at exactly 0, a point already counted) to `b`, `path(tau)` being the state at `tau`.
+/// Returns the last point before it (value `> 0`, within a few ulps of time of the root) and
+/// the first at or after it, or `None` if the path stays clear.
 pub(crate) fn first_root(
     path: &mut impl FnMut(f64) -> BodyState,
-    inv_m: f64,
     a: PathPoint,
     b: PathPoint,
     crossing: &mut impl Crossing,
 ) -> Option<(PathPoint, PathPoint)> {
-    debug_assert!(a.value > 0.0);
+    debug_assert!(a.value >= 0.0);
     // Depth first, earlier half on top: at most one pending piece per level.
     let mut stack = [(a, b, 0u32); MAX_DEPTH as usize + 2];
     let mut top = 1;
@@ -105,14 +150,11 @@ pub(crate) fn first_root(
         pieces += 1;
         top -= 1;
         let (a, b, depth) = stack[top];
-        let duration = b.tau - a.tau;
-        let m = margin(&a.s, &b.s, inv_m, duration);
-        let chord = (b.s.p - a.s.p).length();
         if b.value <= 0.0 {
-            if chord + m <= crossing.resolution() || depth >= MAX_DEPTH {
+            if depth >= MAX_DEPTH || crossing.bracketed(&a, &b) {
                 return Some(refine(path, crossing, a, b));
             }
-        } else if depth >= MAX_DEPTH || !crossing.possible(0.5 * (a.s.p + b.s.p), 0.5 * chord + m) {
+        } else if depth >= MAX_DEPTH || !crossing.possible(&a, &b) {
             continue;
         }
         let tau = 0.5 * (a.tau + b.tau);
@@ -127,7 +169,7 @@ pub(crate) fn first_root(
         let mid = PathPoint {
             tau,
             s,
-            value: crossing.value(&s),
+            value: crossing.value(tau, &s),
         };
         if mid.value > 0.0 {
             stack[top] = (mid, b, depth + 1);
@@ -150,7 +192,7 @@ fn refine(
     let (tau, _) = bracketed_root(
         |tau| {
             let s = path(tau);
-            let value = crossing.value(&s);
+            let value = crossing.value(tau, &s);
             last = Some(PathPoint { tau, s, value });
             value
         },
@@ -166,7 +208,7 @@ fn refine(
             PathPoint {
                 tau,
                 s,
-                value: crossing.value(&s),
+                value: crossing.value(tau, &s),
             }
         }
     };

@@ -92,16 +92,21 @@ pub struct Contacts {
     pub heightfields: Vec<HeightfieldSurface>,
     /// Detection mode.
     pub detection: Detection,
+    /// The declared events: not contacts, but found on the same paths by the same stage
+    /// (a scene with neither skips the stage entirely).
+    pub events: EventSet,
 }
 
 impl Contacts {
-    /// Whether the scene declares no contacts (then the step skips this stage entirely).
+    /// Whether the scene declares no contacts and no events (then the step skips this stage
+    /// entirely).
     pub fn is_empty(&self) -> bool {
         self.ground.is_none()
             && self.walls.is_empty()
             && self.targets.is_empty()
             && self.meshes.is_empty()
             && self.heightfields.is_empty()
+            && self.events.is_empty()
     }
 }
 
@@ -194,5 +199,19 @@ pub enum EventKind {
         distance: f64,
         /// Whether that is within the two radii (a [`EventKind::Hit`] was reported on entry).
         hit: bool,
+    },
+    /// A declared event ([`EventSpec`]): its function changed sign (or touched zero) at the
+    /// event's time, on the integrator's own path.
+    Declared {
+        /// Index of the event in the scene's `events` ([`EventSet::specs`]).
+        event: u32,
+        /// Which way the function went: [`EventDirection::Rising`] or
+        /// [`EventDirection::Falling`] (for a graze, the side it came from).
+        direction: EventDirection,
+        /// Whether it only touched zero (a tangent) rather than crossing it.
+        graze: bool,
+        /// The body's state at the event: the integrator's partial step to its time (for
+        /// Dormand-Prince, the step's continuous extension).
+        state: BodyState,
     },
 }

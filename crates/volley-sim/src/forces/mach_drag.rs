@@ -100,7 +100,7 @@ impl DragSize {
 
     /// `Cd_body A / Cd(M) / 2` (m^2) for a body of mass `m`, so `F = -rho Cd(M) |u| u` times it.
     #[inline(always)]
-    fn half_area(self, m: f64) -> f64 {
+    pub(crate) fn half_area(self, m: f64) -> f64 {
         match self {
             DragSize::Ballistic(bc) => m * (std::f64::consts::PI / 8.0) / bc,
             DragSize::Diameter {

@@ -70,10 +70,15 @@ impl<F: ForceModel> Scheme for Dopri5<'_, F> {
     const EVALS: u64 = 7;
     const READS_LAUNCH: bool = F::READS_LAUNCH;
     const ADAPTIVE: bool = true;
+    const DENSE: bool = true;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t0: f64, h: f64, c: DVec3) -> (BodyState, DVec3) {
         let (s, c, _) = self.step_counted(s, w, t0, h, c);
         (s, c)
+    }
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.0.rates(reach, w)
     }
     fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
@@ -86,6 +91,128 @@ impl<F: ForceModel> Scheme for Dopri5<'_, F> {
         t0: f64,
         h: f64,
         _: DVec3,
+    ) -> (BodyState, DVec3, u64) {
+        self.adaptive(s, w, t0, h, &mut ())
+    }
+    #[inline(never)]
+    fn step_dense(
+        &self,
+        s: BodyState,
+        w: Mass,
+        t0: f64,
+        h: f64,
+        _: DVec3,
+        dense: &mut Dense,
+    ) -> (BodyState, DVec3, u64) {
+        dense.clear();
+        self.adaptive(s, w, t0, h, dense)
+    }
+}
+
+/// What the adaptive step tells about each internal step it accepts: nothing (`()`, the
+/// plain step), or its continuous extension ([`Dense`]).
+pub(super) trait Accepted {
+    /// The internal step from `t` (s into the step) over `d` from `y0` to `y1`, its stages
+    /// `k` (k7 the slope at `y1`).
+    fn accepted(&mut self, t: f64, d: f64, y0: &BodyState, y1: &BodyState, k: [&Slope; 7]);
+}
+
+impl Accepted for () {
+    #[inline(always)]
+    fn accepted(&mut self, _: f64, _: f64, _: &BodyState, _: &BodyState, _: [&Slope; 7]) {}
+}
+
+/// Hairer's dense output coefficients of Dormand-Prince 5(4) (dopri5.f, `CONTD5`): the
+/// continuous extension of order 4 from the seven stages, no further evaluation.
+mod dense {
+    pub const D1: f64 = -12715105075.0 / 11282082432.0;
+    pub const D3: f64 = 87487479700.0 / 32700410799.0;
+    pub const D4: f64 = -10690763975.0 / 1880347072.0;
+    pub const D5: f64 = 701980252875.0 / 199316789632.0;
+    pub const D6: f64 = -1453857185.0 / 822651844.0;
+    pub const D7: f64 = 69997945.0 / 29380423.0;
+}
+
+/// One accepted internal step's continuous extension: `y(theta) = r1 + theta (r2 + (1 -
+/// theta) (r3 + theta (r4 + (1 - theta) r5)))`, `theta` from 0 to 1 over the internal step.
+#[derive(Clone, Copy, Debug)]
+struct Piece {
+    t: f64,
+    d: f64,
+    p: [DVec3; 5],
+    m: [DVec3; 5],
+}
+
+/// The continuous extension of one Dormand-Prince step (all its accepted internal steps):
+/// the state at any time inside the step at no force evaluation, the path the event search
+/// walks for this integrator (docs/physics.md, "Declared events").
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Dense {
+    pieces: Vec<Piece>,
+}
+
+impl Dense {
+    /// Forgets the last step's extension.
+    #[inline]
+    pub(crate) fn clear(&mut self) {
+        self.pieces.clear();
+    }
+
+    /// The state `tau` s into the step (clamped to it).
+    pub(crate) fn at(&self, tau: f64) -> BodyState {
+        let i = self
+            .pieces
+            .partition_point(|p| p.t + p.d < tau)
+            .min(self.pieces.len() - 1);
+        let c = &self.pieces[i];
+        let theta = ((tau - c.t) / c.d).clamp(0.0, 1.0);
+        let one = 1.0 - theta;
+        let y = |r: &[DVec3; 5]| r[0] + theta * (r[1] + one * (r[2] + theta * (r[3] + one * r[4])));
+        BodyState {
+            p: y(&c.p),
+            mv: y(&c.m),
+        }
+    }
+}
+
+impl Accepted for Dense {
+    fn accepted(&mut self, t: f64, d: f64, y0: &BodyState, y1: &BodyState, k: [&Slope; 7]) {
+        use dense::*;
+        let coefficients = |y0: DVec3, y1: DVec3, slope: fn(&Slope) -> DVec3| {
+            let diff = y1 - y0;
+            let bspl = d * slope(k[0]) - diff;
+            [
+                y0,
+                diff,
+                bspl,
+                diff - d * slope(k[6]) - bspl,
+                d * (D1 * slope(k[0])
+                    + D3 * slope(k[2])
+                    + D4 * slope(k[3])
+                    + D5 * slope(k[4])
+                    + D6 * slope(k[5])
+                    + D7 * slope(k[6])),
+            ]
+        };
+        self.pieces.push(Piece {
+            t,
+            d,
+            p: coefficients(y0.p, y1.p, |k| k.p),
+            m: coefficients(y0.mv, y1.mv, |k| k.m),
+        });
+    }
+}
+
+impl<F: ForceModel> Dopri5<'_, F> {
+    /// The adaptive step, telling `record` of every internal step it accepts.
+    #[inline(always)]
+    fn adaptive(
+        &self,
+        s: BodyState,
+        w: Mass,
+        t0: f64,
+        h: f64,
+        record: &mut impl Accepted,
     ) -> (BodyState, DVec3, u64) {
         use dp::*;
         let tol = self.1;
@@ -148,10 +275,12 @@ impl<F: ForceModel> Scheme for Dopri5<'_, F> {
             }
             let accepted = norm <= 1.0;
             if accepted {
-                y = BodyState {
+                let next = BodyState {
                     p: next_p,
                     mv: next_m,
                 };
+                record.accepted(t, d, &y, &next, [&k1, &k2, &k3, &k4, &k5, &k6, &k7]);
+                y = next;
                 if last {
                     return (y, DVec3::ZERO, evals);
                 }

@@ -21,6 +21,8 @@ pub(super) struct ImplicitMidpointSplit<'a, F>(pub(super) &'a F);
 
 impl<F: ForceModel> Scheme for ExplicitEuler<'_, F> {
     const EVALS: u64 = 1;
+    const CURVATURE: f64 = 0.0;
+    const CONSTANT_ACCEL_PATH: bool = true;
     const READS_LAUNCH: bool = F::READS_LAUNCH;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
@@ -32,6 +34,10 @@ impl<F: ForceModel> Scheme for ExplicitEuler<'_, F> {
         };
         (next, DVec3::ZERO)
     }
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.0.rates(reach, w)
+    }
     fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
@@ -39,6 +45,8 @@ impl<F: ForceModel> Scheme for ExplicitEuler<'_, F> {
 
 impl<F: ForceModel> Scheme for SemiImplicitEuler<'_, F> {
     const EVALS: u64 = 1;
+    const CURVATURE: f64 = 2.0;
+    const CONSTANT_ACCEL_PATH: bool = true;
     const READS_LAUNCH: bool = F::READS_LAUNCH;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
@@ -49,6 +57,10 @@ impl<F: ForceModel> Scheme for SemiImplicitEuler<'_, F> {
             mv,
         };
         (next, DVec3::ZERO)
+    }
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.0.rates(reach, w)
     }
     fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
@@ -72,6 +84,10 @@ impl<F: ForceModel> Scheme for Verlet<'_, F> {
             mv: mv_half + half * f1,
         };
         (next, f1)
+    }
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.0.rates(reach, w)
     }
     fn start_carry(&self, s: BodyState, w: Mass, t: f64) -> DVec3 {
         self.0.force_at(t, s.p, s.mv * w.inv, w)
@@ -97,6 +113,10 @@ impl<F: ForceModel> Scheme for VerletPredicted<'_, F> {
         };
         (next, DVec3::ZERO)
     }
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.0.rates(reach, w)
+    }
     fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
@@ -119,6 +139,10 @@ impl<F: ForceModel> Scheme for Midpoint<'_, F> {
             mv: s.mv + h * f_mid,
         };
         (next, DVec3::ZERO)
+    }
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.0.rates(reach, w)
     }
     fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
@@ -147,6 +171,10 @@ impl<F: ForceModel> Scheme for Rk4<'_, F> {
         };
         (next, DVec3::ZERO)
     }
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.0.rates(reach, w)
+    }
     fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
@@ -154,6 +182,7 @@ impl<F: ForceModel> Scheme for Rk4<'_, F> {
 
 impl<F: ForceModel> Scheme for ImplicitEuler<'_, F> {
     const EVALS: u64 = 1;
+    const CURVATURE: f64 = 2.0;
     const READS_LAUNCH: bool = F::READS_LAUNCH;
     #[inline(always)]
     fn step(&self, s: BodyState, w: Mass, t: f64, h: f64, _: DVec3) -> (BodyState, DVec3) {
@@ -167,6 +196,10 @@ impl<F: ForceModel> Scheme for ImplicitEuler<'_, F> {
             mv: w.m * v1,
         };
         (next, DVec3::ZERO)
+    }
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.0.rates(reach, w)
     }
     fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
@@ -195,6 +228,10 @@ impl<F: ForceModel> Scheme for Exact<'_, F> {
         // into the vectorised loop.
         let (p, v) = crate::exact::linear_drag_flow(s.p, s.mv * w.inv, lin.a0, lin.kd, h);
         (BodyState { p, mv: w.m * v }, DVec3::ZERO)
+    }
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.0.rates(reach, w)
     }
     fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
@@ -295,6 +332,10 @@ impl<F: ForceModel> Scheme for ForestRuth<'_, F> {
         let (s, fp) = generalized_verlet(self.0, vt, s, w, (t + (c1 + c2) * h, c2 * h), fp);
         generalized_verlet(self.0, vt, s, w, (t + h, c1 * h), fp)
     }
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.0.rates(reach, w)
+    }
     fn start_carry(&self, s: BodyState, w: Mass, t: f64) -> DVec3 {
         self.0.force_at(t, s.p, DVec3::ZERO, w)
     }
@@ -329,6 +370,10 @@ impl<F: ForceModel> Scheme for ImplicitMidpoint<'_, F> {
         };
         (next, DVec3::ZERO)
     }
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.0.rates(reach, w)
+    }
     fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO
     }
@@ -354,6 +399,10 @@ impl<F: ForceModel> Scheme for ImplicitMidpointSplit<'_, F> {
             mv: w.m * v1,
         };
         (next, DVec3::ZERO)
+    }
+    #[inline(always)]
+    fn rates(&self, reach: &Reach, w: Mass) -> Rates {
+        self.0.rates(reach, w)
     }
     fn start_carry(&self, _: BodyState, _: Mass, _: f64) -> DVec3 {
         DVec3::ZERO

@@ -104,10 +104,14 @@ impl Kind {
     pub fn allowed_len(self) -> std::ops::RangeInclusive<u32> {
         match self {
             Kind::Header => 2..=(64 << 20),
-            // A keyframe of the most bodies a world may hold, with a carried force.
+            // A keyframe of the most bodies a world may hold, with a carried force and the
+            // counts of the most events a scene may declare.
             Kind::Keyframe => {
-                let most = super::keyframe::keyframe_len(crate::scene::MAX_BODIES, true, true);
-                super::keyframe::KEYFRAME_FIXED as u32..=most.expect("fits a frame")
+                let most = super::keyframe::keyframe_len(crate::scene::MAX_BODIES, true, true)
+                    .expect("fits a frame");
+                let counts = (crate::scene::MAX_EVENTS as u32 + 1) * 8;
+                let tallies = 16 + counts * (crate::scene::MAX_BODIES as u32 + 1);
+                super::keyframe::KEYFRAME_FIXED as u32..=most + tallies
             }
             Kind::Command => 9..=4096,
             Kind::Hash => (HASH_RUN_FIXED + 8) as u32..=(HASH_RUN_FIXED + 8 * HASH_RUN_MAX) as u32,
@@ -416,12 +420,12 @@ pub enum DecodeError {
     DivergenceFlag(u8),
     /// A keyframe's integrator tag is no known integrator.
     IntegratorTag(u8),
-    /// A keyframe's force mask has bits beyond the known terms, or its carry or launch flag is
-    /// not 0 or 1.
+    /// A keyframe's force mask has bits beyond the known terms, its carry flag is not 0 or 1,
+    /// or its flags (has launch, has tallies) are past 3.
     MaskOrCarry {
         /// The force mask.
         mask: u16,
-        /// The launch flag.
+        /// The flags byte.
         launch: u8,
         /// The carry flag.
         carry: u8,
@@ -437,6 +441,8 @@ pub enum DecodeError {
     },
     /// A keyframe's body ids do not increase.
     IdsNotIncreasing,
+    /// A keyframe's event count is past a u32.
+    Tally(u64),
 }
 
 impl std::fmt::Display for DecodeError {
@@ -454,7 +460,7 @@ impl std::fmt::Display for DecodeError {
                 launch,
             } => write!(
                 f,
-                "force mask {mask:#x}, carry flag {carry} or launch flag {launch} out of range"
+                "force mask {mask:#x}, carry flag {carry} or flags {launch} out of range"
             ),
             DecodeError::UndeclaredForce(kind) => {
                 write!(f, "force term {} is active but not declared", kind.name())
@@ -463,6 +469,7 @@ impl std::fmt::Display for DecodeError {
                 write!(f, "{bodies} bodies do not fit a {len} byte keyframe")
             }
             DecodeError::IdsNotIncreasing => f.write_str("body ids are not increasing"),
+            DecodeError::Tally(c) => write!(f, "an event count of {c}, past a u32"),
         }
     }
 }

@@ -32,24 +32,46 @@ pub fn keyframe_len(n: usize, carry: bool, launch: bool) -> Option<u32> {
         .and_then(|l| u32::try_from(l).ok())
 }
 
+/// Bytes the event tallies add to a keyframe ([`crate::world::Tallies`]): two lengths and a
+/// word per count; none without tallies.
+fn tallies_len(t: &crate::world::Tallies) -> Option<usize> {
+    if t.is_empty() {
+        return Some(0);
+    }
+    t.per_body
+        .len()
+        .checked_add(t.run.len())
+        .and_then(|w| w.checked_add(2))
+        .and_then(|w| w.checked_mul(8))
+}
+
 /// Writes a keyframe frame, streaming the body arrays through the CRC: no allocation.
 ///
-/// Payload: `tick next_id rng:u64  integrator:u8 forces_mask:u16 has_carry:u8 has_launch:u8
+/// Payload: `tick next_id rng:u64  integrator:u8 forces_mask:u16 has_carry:u8 flags:u8
 /// launcher
 /// (position xyz, speed, elevation, azimuth, mass, radius, backspin, sidespin):10 f64
 /// force_evals n:u64`, then arrays of n: ids, then every column of [`COLUMNS`] in its order
-/// (p, mV, mass, radius, energy_cap, and launch time and mass and spin if has_launch: left out
-/// when every body's launch is canonical, [`crate::body::Bodies::launch_is_canonical`]), and
-/// carry x y z if has_carry.
+/// (p, mV, mass, radius, energy_cap, and launch time and mass and spin if the flags' bit 0, has
+/// launch, is set: left out when every body's launch is canonical,
+/// [`crate::body::Bodies::launch_is_canonical`]), and carry x y z if has_carry. With the flags'
+/// bit 1, has tallies (a scene whose declared events stop after more than one occurrence,
+/// [`crate::world::Tallies`]), then `per_body_len:u64 run_len:u64` and the counts as u64 words:
+/// the per-body ones, then the run's. A keyframe without tallies is byte for byte what it was
+/// before declared events; a build before them refuses one with tallies (its flags above 1).
 pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
     let carry = !s.carry.is_empty();
     let launch = !s.bodies.launch_is_canonical();
+    let tallies = !s.tallies.is_empty();
     let n = s.bodies.id.len();
-    let len = keyframe_len(n, carry, launch).ok_or_else(|| {
+    let too_large = || {
         io::Error::other(format!(
             "a keyframe of {n} bodies is too large for format v{FORMAT_VERSION}"
         ))
-    })?;
+    };
+    let len = keyframe_len(n, carry, launch)
+        .zip(tallies_len(&s.tallies))
+        .and_then(|(l, t)| u32::try_from(l as usize + t).ok())
+        .ok_or_else(too_large)?;
     let mut w = CrcWrite::new(out);
     w.put(&frame_head(Kind::Keyframe, len))?;
     let mut fixed = Words::default();
@@ -65,7 +87,7 @@ pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
         .u8(integrator.unwrap_or(0) as u8)
         .u16(mask)
         .u8(carry as u8)
-        .u8(launch as u8);
+        .u8(launch as u8 | (tallies as u8) << 1);
     for x in [
         l.position.x,
         l.position.y,
@@ -91,6 +113,11 @@ pub fn encode_keyframe(out: &mut impl Write, s: &Snapshot) -> io::Result<u64> {
             w.words(a.iter().map(|x| x.to_bits()))?;
         }
     }
+    if tallies {
+        let t = &s.tallies;
+        w.words([t.per_body.len() as u64, t.run.len() as u64].into_iter())?;
+        w.words(t.per_body.iter().chain(&t.run).map(|&c| u64::from(c)))?;
+    }
     w.finish()?;
     Ok((HEAD_LEN + len as usize + CRC_LEN) as u64)
 }
@@ -105,15 +132,16 @@ pub fn decode_keyframe(
 ) -> Result<(), DecodeError> {
     let mut r = Reader::new(payload);
     (s.tick, s.next_id, s.rng) = (r.u64()?, r.u64()?, SplitMix64(r.u64()?));
-    let (integrator, mask, carry, launch) = (r.u8()?, r.u16()?, r.u8()?, r.u8()?);
+    let (integrator, mask, carry, flags) = (r.u8()?, r.u16()?, r.u8()?, r.u8()?);
+    let (launch, tallies) = (flags & 1, flags >> 1);
     s.integrator = *Integrator::ALL
         .get(usize::from(integrator))
         .ok_or(DecodeError::IntegratorTag(integrator))?;
-    if mask >> ForceKind::ALL.len() != 0 || carry > 1 || launch > 1 {
+    if mask >> ForceKind::ALL.len() != 0 || carry > 1 || flags > 3 {
         return Err(DecodeError::MaskOrCarry {
             mask,
             carry,
-            launch,
+            launch: flags,
         });
     }
     let active = |k: ForceKind| mask & (1 << (k as u16)) != 0;
@@ -140,15 +168,34 @@ pub fn decode_keyframe(
     };
     s.force_evals = r.u64()?;
     let n = r.u64()?;
-    let expected = usize::try_from(n)
+    let bodies_len = usize::try_from(n)
         .ok()
-        .and_then(|n| keyframe_len(n, carry == 1, launch == 1))
-        .filter(|&l| l as usize == payload.len())
-        .ok_or(DecodeError::BodyCount {
+        .and_then(|n| keyframe_len(n, carry == 1, launch == 1));
+    let fits = match bodies_len {
+        Some(l) if tallies == 0 => l as usize == payload.len(),
+        // The tallies' lengths sit at the end of the body part: read them there.
+        Some(l) => payload
+            .get(l as usize..l as usize + 16)
+            .and_then(|w| {
+                let word = |k: usize| {
+                    u64::from_le_bytes(w[k..k + 8].try_into().ok()?)
+                        .try_into()
+                        .ok()
+                };
+                let (a, b): (usize, usize) = (word(0)?, word(8)?);
+                a.checked_add(b)?
+                    .checked_mul(8)?
+                    .checked_add(l as usize + 16)
+            })
+            .is_some_and(|total| total == payload.len()),
+        None => false,
+    };
+    if !fits {
+        return Err(DecodeError::BodyCount {
             bodies: n,
             len: payload.len(),
-        })?;
-    debug_assert_eq!(expected as usize, payload.len());
+        });
+    }
     let n = n as usize;
     let b = &mut s.bodies;
     b.id.clear();
@@ -172,6 +219,18 @@ pub fn decode_keyframe(
         read_vec3s(&mut r, n, &mut s.carry)?;
     } else {
         read_vec3s(&mut r, 0, &mut s.carry)?;
+    }
+    s.tallies.per_body.clear();
+    s.tallies.run.clear();
+    if tallies == 1 {
+        let (a, b) = (r.u64()? as usize, r.u64()? as usize);
+        let count = |w: u64| u32::try_from(w).map_err(|_| DecodeError::Tally(w));
+        for w in r.take_u64s(a)? {
+            s.tallies.per_body.push(count(w)?);
+        }
+        for w in r.take_u64s(b)? {
+            s.tallies.run.push(count(w)?);
+        }
     }
     r.end()
 }

@@ -361,6 +361,33 @@ impl SceneBuilder {
         self
     }
 
+    /// One more declared event (events are named by the order they are added):
+    ///
+    /// ```
+    /// use volley_sim::{EventCondition, EventSpec, EventStop, bundled_scene};
+    ///
+    /// let rifle = bundled_scene("rifle")?
+    ///     .edit()
+    ///     .event(EventSpec::new(EventCondition::Downrange(300.0)).named("300 m"))
+    ///     .event(EventSpec::new(EventCondition::Mach(1.0)).falling().stopping(EventStop::Run(1)))
+    ///     .build()?;
+    /// assert_eq!(rifle.events().len(), 2);
+    /// // A bad declaration is refused naming the field, as in a file.
+    /// let bad = rifle.edit().event(EventSpec::new(EventCondition::ClosestToTarget(7))).build();
+    /// assert!(bad.unwrap_err().to_string().contains("events[2].when"));
+    /// # Ok::<(), volley_sim::SceneError>(())
+    /// ```
+    pub fn event(mut self, event: EventSpec) -> Self {
+        self.scene.events.push(event);
+        self
+    }
+
+    /// The declared events, replacing any.
+    pub fn events(mut self, events: Vec<EventSpec>) -> Self {
+        self.scene.events = events;
+        self
+    }
+
     /// The scene, checked as a scene file is: written as one and read back, so every error is
     /// the file's (naming the field) and [`Scene::source`] is that file.
     pub fn build(self) -> Result<Scene, SceneError> {

@@ -111,6 +111,20 @@ pub enum ValueProblem {
     /// A level surface (mesh or heightfield) that cannot be used: its file and what is wrong,
     /// or what the inline geometry lacks.
     Level(String),
+    /// A Mach event in a scene without a Mach drag, whose air (its speed of sound and wind)
+    /// the Mach number is read in.
+    MachNeedsAir,
+    /// An event naming a target the scene does not have.
+    UnknownTarget {
+        /// The index it names.
+        index: u32,
+        /// How many targets the scene has.
+        targets: usize,
+    },
+    /// A stop after 0 occurrences.
+    StopCount,
+    /// More than [`MAX_EVENTS`] declared events.
+    TooManyEvents(usize),
     /// A body whose mass at launch is not more than its motor's propellant.
     Propellant {
         /// The body's mass (kg).
@@ -182,6 +196,21 @@ impl std::fmt::Display for ValueProblem {
             ValueProblem::SpinNeedsDiameter => f.write_str(
                 "a spin's lift needs the body's `diameter` (m), not a ballistic coefficient",
             ),
+            ValueProblem::MachNeedsAir => f.write_str(
+                "a Mach event needs an atmosphere: declare a MachDrag term, whose air (speed of \
+                 sound, wind) the Mach number is read in",
+            ),
+            ValueProblem::UnknownTarget { index, targets } => write!(
+                f,
+                "expected a target of the scene (0 to {}), got {index}: it has {targets}",
+                targets.saturating_sub(1)
+            ),
+            ValueProblem::TooManyEvents(n) => {
+                write!(f, "expected at most {MAX_EVENTS} events, got {n}")
+            }
+            ValueProblem::StopCount => {
+                f.write_str("expected Never, Body(n) or Run(n) with a count n of at least 1")
+            }
             ValueProblem::Propellant { mass, propellant } => write!(
                 f,
                 "expected a mass at launch above the motor's {propellant} kg of propellant, \

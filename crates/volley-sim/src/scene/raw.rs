@@ -123,6 +123,7 @@ impl Scene {
             seed: self.seed,
             guard: self.guard,
             compare: self.compare.clone(),
+            events: self.events.iter().map(RawEvent::of).collect(),
         };
         let config = ron::ser::PrettyConfig::new()
             .struct_names(true)
@@ -438,6 +439,45 @@ pub(super) struct RawScene {
     pub(super) guard: Guard,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub(super) compare: Vec<CompareLane>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(super) events: Vec<RawEvent>,
+}
+
+/// A declared event as written: `(name: "...", body: id, when: ..., direction: ..., stop: ...)`,
+/// all but `when` optional.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawEvent {
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub(super) name: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) body: Option<u64>,
+    pub(super) when: EventCondition,
+    #[serde(default, skip_serializing_if = "is_either")]
+    pub(super) direction: EventDirection,
+    #[serde(default, skip_serializing_if = "is_never")]
+    pub(super) stop: EventStop,
+}
+
+fn is_either(d: &EventDirection) -> bool {
+    *d == EventDirection::Either
+}
+
+fn is_never(s: &EventStop) -> bool {
+    *s == EventStop::Never
+}
+
+impl RawEvent {
+    /// The event as a scene file writes it back.
+    fn of(e: &EventSpec) -> RawEvent {
+        RawEvent {
+            name: e.name.clone(),
+            body: e.body.map(|b| b.0),
+            when: e.condition,
+            direction: e.direction,
+            stop: e.stop,
+        }
+    }
 }
 
 fn is_pchip(i: &Interpolation) -> bool {

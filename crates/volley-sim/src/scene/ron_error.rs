@@ -109,6 +109,30 @@ pub(crate) const ENUMS: &[EnumWords] = &[
         words: "spin decay",
         variants: &["None", "Time(tau)", "Nathan(tau)"],
     },
+    EnumWords {
+        rust: "EventCondition",
+        words: "event condition",
+        variants: &[
+            "Plane(point: (x, y, z), normal: (x, y, z))",
+            "Altitude(z)",
+            "Downrange(m)",
+            "Speed(m/s)",
+            "Mach(M)",
+            "Apex",
+            "Closest(point: (x, y, z), velocity: (x, y, z))",
+            "ClosestToTarget(i)",
+        ],
+    },
+    EnumWords {
+        rust: "EventDirection",
+        words: "event direction",
+        variants: &["Rising", "Falling", "Either"],
+    },
+    EnumWords {
+        rust: "EventStop",
+        words: "event stop",
+        variants: &["Never", "Body(n)", "Run(n)"],
+    },
 ];
 
 /// The format's structs (and struct-like variants) under serde's names, and what a file calls
@@ -126,6 +150,7 @@ const STRUCTS: &[(&str, &str)] = &[
     ("Volley", "the volley"),
     ("Guard", "the guard"),
     ("CompareLane", "a compare lane"),
+    ("RawEvent", "an event"),
 ];
 
 /// What a file calls the type serde named `rust`: an enum's or struct's words, a struct-like

@@ -197,6 +197,18 @@ pub(super) fn validate(
         non_negative("volley.speed_spread", v.speed_spread)?;
         non_negative("volley.angle_spread_deg", v.angle_spread_deg)?;
     }
+    if raw.events.len() > MAX_EVENTS {
+        return Err(invalid(
+            "events",
+            ValueProblem::TooManyEvents(raw.events.len()),
+        ));
+    }
+    let events = raw
+        .events
+        .iter()
+        .enumerate()
+        .map(|(i, e)| validate_event(i, e, raw.targets.len(), &forces))
+        .collect::<Result<Vec<_>, _>>()?;
     if !(raw.guard.energy_factor.is_finite() && raw.guard.energy_factor > 1.0) {
         return Err(invalid(
             "guard.energy_factor",
@@ -227,6 +239,60 @@ pub(super) fn validate(
         volley: raw.volley,
         seed: raw.seed,
         guard: raw.guard,
+        events,
+    })
+}
+
+/// A declared event: finite numbers, a non-zero normal (made unit), a speed >= 0, a Mach
+/// number > 0 in a scene with a Mach drag (whose air it is read in), a target the scene has,
+/// a stop count of at least 1.
+pub(super) fn validate_event(
+    i: usize,
+    e: &RawEvent,
+    targets: usize,
+    forces: &Forces,
+) -> Result<EventSpec, InvalidValue> {
+    let field = |name: &str| format!("events[{i}].{name}");
+    let condition = match e.when {
+        EventCondition::Plane { point, normal } => {
+            finite3(&field("when.point"), point)?;
+            let normal = unit_vector(&field("when.normal"), normal)?;
+            EventCondition::Plane { point, normal }
+        }
+        EventCondition::Altitude(z) => EventCondition::Altitude(finite(&field("when"), z)?),
+        EventCondition::Downrange(x) => EventCondition::Downrange(finite(&field("when"), x)?),
+        EventCondition::Speed(v) => EventCondition::Speed(non_negative(&field("when"), v)?),
+        EventCondition::Mach(m) => {
+            let m = positive(&field("when"), m)?;
+            if forces.mach_drag.is_none() {
+                return Err(invalid(field("when"), ValueProblem::MachNeedsAir));
+            }
+            EventCondition::Mach(m)
+        }
+        EventCondition::Apex => EventCondition::Apex,
+        EventCondition::Closest { point, velocity } => EventCondition::Closest {
+            point: finite3(&field("when.point"), point)?,
+            velocity: finite3(&field("when.velocity"), velocity)?,
+        },
+        EventCondition::ClosestToTarget(t) => {
+            if t as usize >= targets {
+                return Err(invalid(
+                    field("when"),
+                    ValueProblem::UnknownTarget { index: t, targets },
+                ));
+            }
+            EventCondition::ClosestToTarget(t)
+        }
+    };
+    if let EventStop::Body(0) | EventStop::Run(0) = e.stop {
+        return Err(invalid(field("stop"), ValueProblem::StopCount));
+    }
+    Ok(EventSpec {
+        name: e.name.clone(),
+        body: e.body.map(crate::body::BodyId),
+        condition,
+        direction: e.direction,
+        stop: e.stop,
     })
 }
 

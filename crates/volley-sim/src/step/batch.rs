@@ -41,6 +41,7 @@ impl World {
             h,
             rest_speed: 0.0,
             levels: self.params.contacts.has_levels(),
+            fresh: &[],
         };
         let b = &mut self.state.bodies;
         let (fixed, p, mv) = Fixed::of(b, self.facts.reads_launch);
@@ -200,8 +201,12 @@ pub(super) fn batch_chunk<S: Scheme>(
                     t0: (start_time + (tick - 1) as f64 * dt) + f64::from(k) * work.ctx.h,
                     ..*work.ctx
                 };
-                let o =
-                    run::<S, false, false>(scheme, &mut block.sub(0, end - start), &ctx, events);
+                let o = run::<S, false, false, false>(
+                    scheme,
+                    &mut block.sub(0, end - start),
+                    &ctx,
+                    events,
+                );
                 evals += o.evals;
                 ok &= o.first_non_finite.is_none();
             }

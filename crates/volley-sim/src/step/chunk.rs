@@ -290,22 +290,22 @@ impl<'a> Chunk<'a> {
 }
 
 /// Splits the bodies into `events.len()` chunks and runs them in parallel, combining in order.
-pub(super) fn split_run<S: Scheme, const CONTACTS: bool, const LEVELS: bool>(
+pub(super) fn split_run<S: Scheme, const CONTACTS: bool, const LEVELS: bool, const EVENTS: bool>(
     scheme: &S,
     mut chunk: Chunk,
     ctx: &StepContext,
     events: &mut [Vec<Event>],
 ) -> KernelOut {
     if events.len() <= 1 {
-        return run::<S, CONTACTS, LEVELS>(scheme, &mut chunk, ctx, &mut events[0]);
+        return run::<S, CONTACTS, LEVELS, EVENTS>(scheme, &mut chunk, ctx, &mut events[0]);
     }
     let half = events.len() / 2;
     let mid = chunk.len() * half / events.len();
     let (left, right) = chunk.split_at(mid);
     let (ev_left, ev_right) = events.split_at_mut(half);
     let (a, b) = rayon::join(
-        || split_run::<S, CONTACTS, LEVELS>(scheme, left, ctx, ev_left),
-        || split_run::<S, CONTACTS, LEVELS>(scheme, right, ctx, ev_right),
+        || split_run::<S, CONTACTS, LEVELS, EVENTS>(scheme, left, ctx, ev_left),
+        || split_run::<S, CONTACTS, LEVELS, EVENTS>(scheme, right, ctx, ev_right),
     );
     a.then(b)
 }

@@ -4,11 +4,11 @@
 
 use glam::DVec3;
 
-use crate::contact::{self, Event, Particle, StepContext};
-use crate::integrate::{BodyState, Scheme, SchemeVisitor, visit_with};
+use crate::contact::{self, Detection, Event, Particle, StepContext};
+use crate::integrate::{BodyState, Dense, Scheme, SchemeVisitor, visit_with};
 #[cfg(target_arch = "x86_64")]
 use crate::simd::{SimdLevel, simd_level};
-use crate::world::World;
+use crate::world::{LoopKind, World};
 
 use super::chunk::{Chunk, Fixed, split_run};
 
@@ -32,6 +32,7 @@ impl World {
             h,
             rest_speed: gravity * h,
             levels: self.params.contacts.has_levels(),
+            fresh: &self.scratch.fresh,
         };
         let b = &mut self.state.bodies;
         let (fixed, p, mv) = Fixed::of(b, self.facts.reads_launch);
@@ -46,9 +47,11 @@ impl World {
                 ctx: &ctx,
                 events: &mut self.scratch.chunk_events[..chunks],
                 carry_valid: self.carry_valid,
+                kind: self.kind,
             },
         );
         self.carry_valid = out.carried;
+        self.event_evals = self.event_evals.saturating_add(out.event_evals);
         // Saturating: a keyframe read from a file may start the count anywhere (fuzzing found
         // one near u64::MAX).
         self.state.force_evals = self.state.force_evals.saturating_add(out.evals);
@@ -67,6 +70,8 @@ pub(super) struct KernelOut {
     pub(super) first_non_finite: Option<usize>,
     /// Whether the scheme wrote the carried force (velocity Verlet's carrying form only).
     pub(super) carried: bool,
+    /// Force evaluations the declared events' search spent (not the step's).
+    pub(super) event_evals: u64,
 }
 
 impl KernelOut {
@@ -77,6 +82,7 @@ impl KernelOut {
             evals: self.evals + later.evals,
             first_non_finite: self.first_non_finite.or(later.first_non_finite),
             carried: self.carried,
+            event_evals: self.event_evals + later.event_evals,
         }
     }
 }
@@ -86,6 +92,7 @@ pub(super) struct Integrate<'a, 'f> {
     ctx: &'f StepContext<'f>,
     events: &'a mut [Vec<Event>],
     carry_valid: bool,
+    kind: LoopKind,
 }
 
 impl SchemeVisitor for Integrate<'_, '_> {
@@ -96,14 +103,19 @@ impl SchemeVisitor for Integrate<'_, '_> {
             ctx,
             events,
             carry_valid,
+            kind,
         } = self;
         let extra = start_carry(&scheme, &mut chunk, carry_valid, ctx.t0);
-        let out = if ctx.contacts.is_empty() {
-            split_run::<S, false, false>(&scheme, chunk, ctx, events)
-        } else if ctx.levels {
-            split_run::<S, true, true>(&scheme, chunk, ctx, events)
-        } else {
-            split_run::<S, true, false>(&scheme, chunk, ctx, events)
+        let out = match kind {
+            LoopKind::Bare => split_run::<S, false, false, false>(&scheme, chunk, ctx, events),
+            LoopKind::Contacts if ctx.levels => {
+                split_run::<S, true, true, false>(&scheme, chunk, ctx, events)
+            }
+            LoopKind::Contacts => split_run::<S, true, false, false>(&scheme, chunk, ctx, events),
+            LoopKind::Events if ctx.levels => {
+                split_run::<S, true, true, true>(&scheme, chunk, ctx, events)
+            }
+            LoopKind::Events => split_run::<S, true, false, true>(&scheme, chunk, ctx, events),
         };
         KernelOut {
             evals: out.evals + extra,
@@ -151,7 +163,7 @@ pub(super) fn finite(v: DVec3) -> bool {
 
 /// The per-body loop of one chunk, in the widest version the CPU runs ([`simd_level`]).
 #[inline]
-pub(super) fn run<S: Scheme, const CONTACTS: bool, const LEVELS: bool>(
+pub(super) fn run<S: Scheme, const CONTACTS: bool, const LEVELS: bool, const EVENTS: bool>(
     scheme: &S,
     l: &mut Chunk,
     ctx: &StepContext,
@@ -166,31 +178,44 @@ pub(super) fn run<S: Scheme, const CONTACTS: bool, const LEVELS: bool>(
         match simd_level() {
             _ if l.len() < 8 => {}
             SimdLevel::Avx512 if streaming => {
-                return unsafe { run_avx512::<S, CONTACTS, LEVELS, true>(scheme, l, ctx, events) };
+                return unsafe {
+                    run_avx512::<S, CONTACTS, LEVELS, EVENTS, true>(scheme, l, ctx, events)
+                };
             }
             SimdLevel::Avx512 => {
-                return unsafe { run_avx512::<S, CONTACTS, LEVELS, false>(scheme, l, ctx, events) };
+                return unsafe {
+                    run_avx512::<S, CONTACTS, LEVELS, EVENTS, false>(scheme, l, ctx, events)
+                };
             }
             SimdLevel::Avx2 if streaming => {
-                return unsafe { run_avx2::<S, CONTACTS, LEVELS, true>(scheme, l, ctx, events) };
+                return unsafe {
+                    run_avx2::<S, CONTACTS, LEVELS, EVENTS, true>(scheme, l, ctx, events)
+                };
             }
             SimdLevel::Avx2 => {
-                return unsafe { run_avx2::<S, CONTACTS, LEVELS, false>(scheme, l, ctx, events) };
+                return unsafe {
+                    run_avx2::<S, CONTACTS, LEVELS, EVENTS, false>(scheme, l, ctx, events)
+                };
             }
             SimdLevel::Baseline => {}
         }
     }
-    run_baseline::<S, CONTACTS, LEVELS>(scheme, l, ctx, events)
+    run_baseline::<S, CONTACTS, LEVELS, EVENTS>(scheme, l, ctx, events)
 }
 
 #[inline(never)]
-pub(super) fn run_baseline<S: Scheme, const CONTACTS: bool, const LEVELS: bool>(
+pub(super) fn run_baseline<
+    S: Scheme,
+    const CONTACTS: bool,
+    const LEVELS: bool,
+    const EVENTS: bool,
+>(
     scheme: &S,
     l: &mut Chunk,
     ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    run_chunk::<S, CONTACTS, LEVELS, false>(scheme, l, ctx, events)
+    run_chunk::<S, CONTACTS, LEVELS, EVENTS, false>(scheme, l, ctx, events)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -200,6 +225,7 @@ pub(super) fn run_avx2<
     S: Scheme,
     const CONTACTS: bool,
     const LEVELS: bool,
+    const EVENTS: bool,
     const STREAMING: bool,
 >(
     scheme: &S,
@@ -207,7 +233,7 @@ pub(super) fn run_avx2<
     ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    run_chunk::<S, CONTACTS, LEVELS, STREAMING>(scheme, l, ctx, events)
+    run_chunk::<S, CONTACTS, LEVELS, EVENTS, STREAMING>(scheme, l, ctx, events)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -217,6 +243,7 @@ pub(super) fn run_avx512<
     S: Scheme,
     const CONTACTS: bool,
     const LEVELS: bool,
+    const EVENTS: bool,
     const STREAMING: bool,
 >(
     scheme: &S,
@@ -224,7 +251,7 @@ pub(super) fn run_avx512<
     ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    run_chunk::<S, CONTACTS, LEVELS, STREAMING>(scheme, l, ctx, events)
+    run_chunk::<S, CONTACTS, LEVELS, EVENTS, STREAMING>(scheme, l, ctx, events)
 }
 
 /// Chunks of at least this many bodies (about 30 MB of state, an L3's worth) stream from
@@ -235,12 +262,14 @@ pub const STREAMING_MIN_BODIES: usize = 1 << 18;
 
 /// The per-body loop of one chunk, inlined into each instruction-set version of [`run`].
 /// `STREAMING` recomputes `1 / m` instead of loading it (see [`STREAMING_MIN_BODIES`]).
-/// `CONTACTS` compiles the contact stage in, `LEVELS` its level surfaces (meshes, heightfields).
+/// `CONTACTS` compiles the contact stage in, `LEVELS` its level surfaces (meshes, heightfields),
+/// `EVENTS` the declared events' search.
 #[inline(always)]
 pub(super) fn run_chunk<
     S: Scheme,
     const CONTACTS: bool,
     const LEVELS: bool,
+    const EVENTS: bool,
     const STREAMING: bool,
 >(
     scheme: &S,
@@ -260,6 +289,9 @@ pub(super) fn run_chunk<
     let (t, h) = (ctx.t0, ctx.h);
     // An adaptive scheme counts its own evaluations, body by body.
     let mut evals = if S::ADAPTIVE { 0 } else { n as u64 * S::EVALS };
+    let mut event_evals = 0u64;
+    // Dormand-Prince's continuous extension of each body's step, for the events' search.
+    let mut dense = Dense::default();
     let mut all_finite = true;
     for i in 0..n {
         let w = if STREAMING {
@@ -276,22 +308,75 @@ pub(super) fn run_chunk<
         } else {
             DVec3::ZERO
         };
-        let (mut s1, mut c1) = if S::ADAPTIVE {
+        let (mut s1, mut c1) = if EVENTS && S::DENSE {
+            let (s1, c1, n) = scheme.step_dense(s0, w, t, h, c0, &mut dense);
+            evals += n;
+            (s1, c1)
+        } else if S::ADAPTIVE {
             let (s1, c1, n) = scheme.step_counted(s0, w, t, h, c0);
             evals += n;
             (s1, c1)
         } else {
             scheme.step(s0, w, t, h, c0)
         };
-        if CONTACTS && contact::needs_resolution::<LEVELS>(ctx, l.radius[i], w.inv, &s0, &s1) {
+        if EVENTS {
             let body = Particle {
                 id: l.ids[i],
                 w,
                 r: l.radius[i],
+                fresh: ctx.fresh.binary_search(&l.ids[i]).is_ok(),
+            };
+            let resolves = contact::needs_resolution::<LEVELS>(ctx, l.radius[i], w.inv, &s0, &s1);
+            let swept = ctx.contacts.detection == Detection::Swept;
+            if !(resolves && swept) {
+                // The whole step is one segment (discrete detection's before its push-out).
+                if S::DENSE {
+                    contact::events_on_dense_step(scheme, ctx, body, (s0, s1), &dense, events);
+                } else {
+                    contact::events_on_segment(
+                        scheme,
+                        ctx,
+                        body,
+                        0.0,
+                        (s0, c0),
+                        h,
+                        s1,
+                        events,
+                        &mut event_evals,
+                    );
+                }
+            }
+            if resolves {
+                let extra;
+                (s1, c1, extra) = contact::resolve::<S, LEVELS, true>(
+                    scheme,
+                    ctx,
+                    body,
+                    (s0, c0),
+                    (s1, c1),
+                    events,
+                    &mut event_evals,
+                );
+                evals += extra;
+            }
+        } else if CONTACTS && contact::needs_resolution::<LEVELS>(ctx, l.radius[i], w.inv, &s0, &s1)
+        {
+            let body = Particle {
+                id: l.ids[i],
+                w,
+                r: l.radius[i],
+                fresh: false,
             };
             let extra;
-            (s1, c1, extra) =
-                contact::resolve::<S, LEVELS>(scheme, ctx, body, (s0, c0), (s1, c1), events);
+            (s1, c1, extra) = contact::resolve::<S, LEVELS, false>(
+                scheme,
+                ctx,
+                body,
+                (s0, c0),
+                (s1, c1),
+                events,
+                &mut event_evals,
+            );
             evals += extra;
         }
         all_finite &= finite(s1.p) & finite(s1.mv);
@@ -314,5 +399,6 @@ pub(super) fn run_chunk<
         evals,
         first_non_finite,
         carried: S::CARRIES_FORCE,
+        event_evals,
     }
 }

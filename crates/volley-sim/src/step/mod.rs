@@ -31,7 +31,8 @@ mod kernel;
 mod staged;
 
 pub use crate::simd::{SimdLevel, simd_level};
-use crate::world::{Divergence, DivergenceCause, World};
+use crate::world::LoopKind;
+use crate::world::{Divergence, DivergenceCause, Halt, World};
 pub use batch::{BATCH_BLOCK, BATCH_MAX_TICKS};
 pub use kernel::STREAMING_MIN_BODIES;
 pub use staged::Stage;
@@ -44,8 +45,10 @@ impl World {
     /// Advances the world by one tick (`substeps` integrator steps), or returns the divergence
     /// that stopped it. A stopped world stays stopped and keeps the state it stopped at.
     pub fn step(&mut self) -> Result<(), Divergence> {
-        if let Some(d) = self.diverged {
-            return Err(d);
+        match self.halt {
+            Halt::Running => {}
+            Halt::Diverged(d) => return Err(d),
+            Halt::Stopped(_) => return Ok(()),
         }
         self.scratch.events.clear();
         let next_tick = self.state.tick + 1;
@@ -54,9 +57,14 @@ impl World {
         for k in 0..self.params.substeps {
             let t0 = self.time_of(self.state.tick) + f64::from(k) * h_sub;
             let since = self.state.tick as f64 * self.params.h + f64::from(k) * h_sub;
+            let first_event = self.scratch.events.len();
             if let Some(i) = self.integrate(next_tick, (t0, since), h_sub) {
                 self.state.tick = next_tick;
                 return Err(self.stop(i, DivergenceCause::NonFinite));
+            }
+            if self.kind == LoopKind::Events {
+                // A stop takes effect at the end of the tick: its other substeps still run.
+                self.after_events(first_event);
             }
             if motor {
                 // The next step's start, formed as that step forms it.
@@ -104,8 +112,15 @@ impl World {
             body: self.state.bodies.id[i],
             cause,
         };
-        self.diverged = Some(d);
+        self.halt = Halt::Diverged(d);
         d
+    }
+
+    /// After a substep of a world with declared events: their stops, and no body is fresh any
+    /// more (a body's first segment has been searched).
+    fn after_events(&mut self, first: usize) {
+        self.scratch.fresh.clear();
+        self.apply_stops(first);
     }
 
     /// Advances the world by `n` ticks: the same bits, events, force-evaluation count and
@@ -128,8 +143,10 @@ impl World {
         if n == 0 {
             return Ok(());
         }
-        if let Some(d) = self.diverged {
-            return Err(d);
+        match self.halt {
+            Halt::Running => {}
+            Halt::Diverged(d) => return Err(d),
+            Halt::Stopped(_) => return Ok(()),
         }
         // A motor's mass changes between steps (`burn`), which a batch does not do.
         let batches = self.params.contacts.is_empty() && self.state.forces.thrust.is_none();
@@ -141,6 +158,9 @@ impl World {
             } else {
                 for _ in 0..m {
                     self.step()?;
+                    if self.halt != Halt::Running {
+                        return Ok(());
+                    }
                 }
             }
             left -= m;

@@ -13,7 +13,7 @@ use glam::DVec3;
 use crate::contact::{self, Contacts, Event, Particle, StepContext};
 use crate::forces::Forces;
 use crate::integrate::{BodyState, Scheme, SchemeVisitor, visit};
-use crate::world::{Divergence, DivergenceCause, World};
+use crate::world::{Divergence, DivergenceCause, Halt, World};
 
 use super::chunk::{Chunk, Fixed};
 use super::kernel::{finite, start_carry};
@@ -100,14 +100,19 @@ pub(crate) struct StageBuffers {
 impl World {
     /// [`World::step`], stage by stage: after each stage, `each` sees (and may change) the
     /// world. The same bits, events, force evaluations and divergence as `step` when `each`
-    /// changes nothing. Runs on the calling thread, one body after another.
+    /// changes nothing. Runs on the calling thread, one body after another. Not for a world
+    /// with declared events (their search and stops are not staged; [`crate::SyncTest::new`]
+    /// refuses such a world).
     pub(crate) fn step_staged(
         &mut self,
         buffers: &mut StageBuffers,
         each: &mut dyn FnMut(Stage, &mut World),
     ) -> Result<(), Divergence> {
-        if let Some(d) = self.diverged {
-            return Err(d);
+        debug_assert!(self.params.contacts.events.is_empty());
+        match self.halt {
+            Halt::Running => {}
+            Halt::Diverged(d) => return Err(d),
+            Halt::Stopped(_) => return Ok(()),
         }
         self.scratch.events.clear();
         let next_tick = self.state.tick + 1;
@@ -141,9 +146,9 @@ impl World {
         let guarded = self.guard_energy();
         each(Stage::Guard, self);
         // `each` may have stopped the run (a stage hook); the world's flag is the outcome.
-        match self.diverged {
-            Some(d) => Err(d),
-            None => guarded,
+        match self.halt {
+            Halt::Diverged(d) => Err(d),
+            _ => guarded,
         }
     }
 
@@ -236,6 +241,7 @@ fn step_context<'c>(
         h,
         rest_speed: gravity * h,
         levels: contacts.has_levels(),
+        fresh: &[],
     }
 }
 
@@ -348,10 +354,18 @@ fn contacts_pass<S: Scheme, const LEVELS: bool>(
             id: l.ids[i],
             w,
             r: l.radius[i],
+            fresh: false,
         };
         let c1 = buffers.end_force[i];
-        let (s, c, extra) =
-            contact::resolve::<S, LEVELS>(scheme, ctx, body, (s0, c0), (s1, c1), events);
+        let (s, c, extra) = contact::resolve::<S, LEVELS, false>(
+            scheme,
+            ctx,
+            body,
+            (s0, c0),
+            (s1, c1),
+            events,
+            &mut 0,
+        );
         evals += extra;
         (l.px[i], l.py[i], l.pz[i]) = (s.p.x, s.p.y, s.p.z);
         (l.mx[i], l.my[i], l.mz[i]) = (s.mv.x, s.mv.y, s.mv.z);

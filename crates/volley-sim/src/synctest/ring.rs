@@ -114,7 +114,8 @@ fn load_static(world: &mut World, e: &State) {
 /// Saves the world's step-changed state into `f` by copying (the world keeps it).
 pub(super) fn save_copy(world: &World, f: &mut Frame, epoch: u64) {
     let (s, b) = (&world.state, &world.state.bodies);
-    (f.tick, f.force_evals, f.diverged, f.epoch) = (s.tick, s.force_evals, world.diverged, epoch);
+    (f.tick, f.force_evals, f.diverged, f.epoch) =
+        (s.tick, s.force_evals, world.divergence(), epoch);
     f.p.copy_from(&b.p);
     f.mv.copy_from(&b.mv);
     f.has_mass = burns(world);
@@ -168,7 +169,7 @@ pub(super) fn swap(world: &mut World, f: &mut Frame, epochs: &Epochs, world_epoc
     std::mem::swap(&mut world.carry_valid, &mut f.carry_valid);
     std::mem::swap(&mut s.tick, &mut f.tick);
     std::mem::swap(&mut s.force_evals, &mut f.force_evals);
-    f.diverged = world.diverged;
+    f.diverged = world.divergence();
     f.epoch = world_epoch;
     f.commands.clear();
     f.stages.clear();
@@ -186,7 +187,7 @@ fn finish_restore(world: &mut World, masses_replaced: bool) {
     if masses_replaced {
         world.state.bodies.recompute_inv_mass();
     }
-    world.diverged = None;
+    world.halt = crate::world::Halt::Running;
     world.scratch.events.clear();
 }
 
@@ -232,7 +233,7 @@ pub(super) fn same_dynamic(world: &World, f: &Frame) -> bool {
     let (s, b) = (&world.state, &world.state.bodies);
     s.tick == f.tick
         && s.force_evals == f.force_evals
-        && world.diverged == f.diverged
+        && world.divergence() == f.diverged
         && world.carry_valid == f.carry_valid
         && same_vec3s(&b.p, &f.p)
         && same_vec3s(&b.mv, &f.mv)

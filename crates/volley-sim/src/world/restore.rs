@@ -102,11 +102,18 @@ impl World {
         if !s.carry.is_empty() && (s.carry.len() != n || !s.integrator.carries_force(&s.forces)) {
             return Err(RestoreError::Carry);
         }
+        let events = &self.params.contacts.events;
+        if s.tallies.per_body.len() != n * events.body_slots()
+            || s.tallies.run.len() != events.run_slots()
+        {
+            return Err(RestoreError::Tallies);
+        }
         self.state.assign_from(s, true);
         self.facts = super::ForceFacts::of(&self.state.forces);
         self.carry_valid = !s.carry.is_empty();
         self.scratch.events.clear();
-        self.diverged = None;
+        self.halt = super::Halt::Running;
+        self.scratch.fresh.clear();
         Ok(())
     }
 }
@@ -162,6 +169,9 @@ pub enum RestoreError {
     /// A carried force without velocity Verlet, with velocity-dependent forces, or not one
     /// entry per body.
     Carry,
+    /// Event counts that are not the scene's: one per body and event that stops a body after
+    /// more than one occurrence, one per event that stops the run so.
+    Tallies,
 }
 
 impl std::fmt::Display for RestoreError {
@@ -192,6 +202,10 @@ impl std::fmt::Display for RestoreError {
             RestoreError::Launcher => {
                 f.write_str("launcher: values must be finite, speed and radius >= 0, mass > 0")
             }
+            RestoreError::Tallies => f.write_str(
+                "event counts are not one per body and counted event of the scene's, and one \
+                 per counted run-stopping event",
+            ),
             RestoreError::Carry => f.write_str(
                 "a carried force needs velocity Verlet, forces of position only and one entry \
                  per body",

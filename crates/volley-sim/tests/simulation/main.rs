@@ -12,6 +12,7 @@ mod baseball;
 mod clock;
 mod convergence;
 mod custom;
+mod declared;
 mod drag;
 mod events;
 mod exact;

@@ -24,3 +24,20 @@ fn the_seed_passes_at_every_distance() {
         );
     }
 }
+
+#[test]
+fn a_world_with_declared_events_is_refused_by_name() {
+    // Its tallies and in-step despawns are not saved by the ring: refused, not half-checked.
+    let scene = volley_sim::parse_scene(
+        "Scene(dt: 0.1, integrator: Exact, forces: [Gravity((0, 0, -9.81))],
+               bodies: [(mass: 1, position: (0, 0, 0), launch: Velocity((1, 0, 10)))],
+               events: [(when: Apex)])",
+        "events.ron",
+        "events",
+    )
+    .unwrap();
+    let e = SyncTest::new(World::new(&scene), 7).err();
+    assert_eq!(e, Some(volley_sim::SyncTestError::DeclaredEvents));
+    let plain = bundled_scene("seed").unwrap();
+    assert!(SyncTest::new(World::new(&plain), 7).is_ok());
+}

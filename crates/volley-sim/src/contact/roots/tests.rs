@@ -6,7 +6,7 @@ struct Floor {
     asked: u32,
 }
 
-impl Crossing for Floor {
+impl BallCrossing for Floor {
     fn value(&mut self, s: &BodyState) -> f64 {
         s.p.z - self.r
     }
@@ -28,6 +28,13 @@ fn semi_implicit(p0: DVec3, v0: DVec3, g: DVec3) -> impl FnMut(f64) -> BodyState
             p: p0 + tau * v,
             mv: v,
         }
+    }
+}
+
+fn on(c: &mut Floor) -> OnBall<'_, Floor> {
+    OnBall {
+        crossing: c,
+        inv_m: 1.0,
     }
 }
 
@@ -57,7 +64,7 @@ fn a_dip_between_the_ends_of_the_step_is_found_at_its_first_root() {
     let mut c = Floor { r: 0.04, asked: 0 };
     let (a, b) = (point(&mut path, &mut c, 0.0), point(&mut path, &mut c, 0.2));
     assert!(a.value > 0.0 && b.value > 0.0);
-    let (lo, hi) = first_root(&mut path, 1.0, a, b, &mut c).expect("the dip reaches z = r");
+    let (lo, hi) = first_root(&mut path, a, b, &mut on(&mut c)).expect("the dip reaches z = r");
     // 10 tau^2 - tau + 0.02 = 0: the first root is (1 - sqrt(0.2)) / 20; the second, 0.0724,
     // must not be the one found.
     let exact = (1.0 - 0.2f64.sqrt()) / 20.0;
@@ -75,7 +82,7 @@ fn a_dip_that_stays_above_the_radius_is_cleared_in_a_few_pieces() {
     // Radius 0.03: the lowest point (0.035) misses by 5 mm.
     let mut c = Floor { r: 0.03, asked: 0 };
     let (a, b) = (point(&mut path, &mut c, 0.0), point(&mut path, &mut c, 0.2));
-    assert!(first_root(&mut path, 1.0, a, b, &mut c).is_none());
+    assert!(first_root(&mut path, a, b, &mut on(&mut c)).is_none());
     // A piece is cleared once its ball (half its chord plus its margin, 10 T^2 for length T)
     // stays above z = 0.03: the chord runs at about 3 m/s, so pieces of about 1/320 s (6
     // halvings) near the lowest point, two pieces asked about per level, and their siblings:
@@ -91,7 +98,7 @@ fn a_tangent_touch_ends_at_the_depth_limit_without_a_root() {
     // The lowest point is 0.035 to rounding: found as a root at tau = 0.05 or not at all, and
     // either way the search ends (at most MAX_DEPTH pieces down one branch, and their
     // siblings).
-    if let Some((lo, _)) = first_root(&mut path, 1.0, a, b, &mut c) {
+    if let Some((lo, _)) = first_root(&mut path, a, b, &mut on(&mut c)) {
         assert!((lo.tau - 0.05).abs() < 1e-6, "{}", lo.tau);
     }
     assert!(c.asked < 10 * MAX_DEPTH, "asked {} times", c.asked);

@@ -26,7 +26,7 @@ fn footers_that_do_not_decode_say_why() {
 /// Every variant prints the message it printed when these errors were strings.
 #[test]
 fn error_messages_are_pinned() {
-    let cases: [(DecodeError, &str); 10] = [
+    let cases: [(DecodeError, &str); 11] = [
         (
             DecodeError::Truncated { len: 20 },
             "payload ends at byte 20",
@@ -46,9 +46,9 @@ fn error_messages_are_pinned() {
             DecodeError::MaskOrCarry {
                 mask: 0x400,
                 carry: 0,
-                launch: 2,
+                launch: 4,
             },
-            "force mask 0x400, carry flag 0 or launch flag 2 out of range",
+            "force mask 0x400, carry flag 0 or flags 4 out of range",
         ),
         (
             DecodeError::UndeclaredForce(ForceKind::Spring),
@@ -62,6 +62,10 @@ fn error_messages_are_pinned() {
             "3 bodies do not fit a 115 byte keyframe",
         ),
         (DecodeError::IdsNotIncreasing, "body ids are not increasing"),
+        (
+            DecodeError::Tally(1 << 32),
+            "an event count of 4294967296, past a u32",
+        ),
     ];
     for (error, message) in cases {
         assert_eq!(error.to_string(), message, "{error:?}");

@@ -36,6 +36,9 @@ const MISSPELT: &[(&str, &str)] = &[
     ),
     ("Integrator", "bodies: []"),
     ("Detection", "detection: Nope"),
+    ("EventCondition", "events: [(when: Nope)]"),
+    ("EventDirection", "events: [(when: Apex, direction: Nope)]"),
+    ("EventStop", "events: [(when: Apex, stop: Nope)]"),
 ];
 
 fn scene_with(part: &str, rust: &str) -> String {
@@ -155,6 +158,9 @@ const STRUCT_PLACES: &[&str] = &[
     "forces: [Thrust(curve: [(0, 1), (1, 0)], direction: Velocity(zzz: 1))]",
     "bodies: [(mass: 1, position: (0, 0, 1), launch: Angles(zzz: 1))]",
     "bodies: [(mass: 1, position: (0, 0, 1), launch: Aim(zzz: 1))]",
+    "events: [(when: Apex, zzz: 1)]",
+    "events: [(when: Plane(point: (0, 0, 0), normal: (1, 0, 0), zzz: 1))]",
+    "events: [(when: Closest(point: (0, 0, 0), zzz: 1))]",
 ];
 
 /// Every keyword the scene reader accepts: each enum's variants and each struct's fields, as
