@@ -29,6 +29,8 @@ enum Cmd {
     Headless(cli::headless::HeadlessArgs),
     /// Solve both launch angles that hit a target at a given speed.
     Aim(cli::aim::AimArgs),
+    /// A scene's range table: drop, windage, speed, Mach, energy and time at chosen ranges.
+    Range(cli::range::RangeArgs),
     /// List the bundled scenes.
     Scenes,
     /// Sweep integrators and timesteps: error against cost, as a table, CSV and plot.
@@ -53,6 +55,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Some(Cmd::Headless(args)) => cli::headless::run(&args),
         Some(Cmd::Aim(args)) => cli::aim::run(&args),
+        Some(Cmd::Range(args)) => cli::range::run(&args),
         Some(Cmd::Scenes) => cli::scenes::run(),
         Some(Cmd::Study(args)) => cli::study::run(&args),
         Some(Cmd::Pacing(args)) => cli::pacing::run(&args),

@@ -70,13 +70,14 @@ pub struct AimArgs {
     pub sight_height: f64,
 }
 
-/// `FROM:TO:STEP` as the ranges it lists, or the line saying what was expected.
-fn ranges_of(text: &str) -> Result<Vec<f64>, Failure> {
+/// `FROM:TO:STEP` as the ranges it lists, or the line saying what was expected, naming
+/// `flag`.
+pub(super) fn ranges_of(flag: &str, text: &str) -> Result<Vec<f64>, Failure> {
     let bad = || {
         fail(
             EXIT_INPUT,
             format!(
-                "--holdover: expected FROM:TO:STEP in m with 0 < FROM <= TO and STEP > 0, \
+                "{flag}: expected FROM:TO:STEP in m with 0 < FROM <= TO and STEP > 0, \
                  at most 1000 ranges, got `{text}`"
             ),
         )
@@ -99,7 +100,7 @@ fn ranges_of(text: &str) -> Result<Vec<f64>, Failure> {
 
 /// Prints the holdover table for `args.holdover`.
 fn run_holdover(args: &AimArgs, spec: &str) -> Result<(), Failure> {
-    let ranges = ranges_of(spec)?;
+    let ranges = ranges_of("--holdover", spec)?;
     let scene = match &args.scene {
         Some(name) => load_scene(name, &args.overrides)?.1,
         None => return Err(fail(EXIT_INPUT, "--holdover: needs a scene")),
@@ -120,8 +121,16 @@ fn run_holdover(args: &AimArgs, spec: &str) -> Result<(), Failure> {
         table.zero.1
     );
     text += &format!(
-        "{:>8} {:>10} {:>9} {:>8} {:>9} {:>7} {:>10} {:>12}\n",
-        "range_m", "elev_deg", "hold_mrad", "hold_moa", "hold_m", "time_s", "miss_m", "textbook_m"
+        "{:>8} {:>10} {:>9} {:>8} {:>9} {:>7} {:>10} {:>12} {:>9}\n",
+        "range_m",
+        "elev_deg",
+        "hold_mrad",
+        "hold_moa",
+        "hold_m",
+        "time_s",
+        "miss_m",
+        "textbook_m",
+        "path_mrad"
     );
     for r in &table.rows {
         let textbook = r
@@ -129,7 +138,7 @@ fn run_holdover(args: &AimArgs, spec: &str) -> Result<(), Failure> {
             .textbook
             .map_or_else(|| "-".to_string(), |t| format!("{:.4}", t.miss));
         text += &format!(
-            "{:>8} {:>10.4} {:>9.3} {:>8.2} {:>9.4} {:>7.3} {:>10.1e} {:>12}\n",
+            "{:>8} {:>10.4} {:>9.3} {:>8.2} {:>9.4} {:>7.3} {:>10.1e} {:>12} {:>9.3}\n",
             r.range,
             r.shot.elevation_deg,
             r.hold_mrad,
@@ -137,7 +146,8 @@ fn run_holdover(args: &AimArgs, spec: &str) -> Result<(), Failure> {
             r.hold_at_target,
             r.shot.flight_time,
             r.shot.miss,
-            textbook
+            textbook,
+            r.path_hold_mrad
         );
     }
     std::io::stdout()

@@ -7,6 +7,7 @@ pub mod first_run;
 pub mod frames;
 pub mod headless;
 pub mod pacing;
+pub mod range;
 pub mod record;
 pub mod replay;
 pub mod scenes;

@@ -17,6 +17,7 @@ mod first_run;
 mod headless_frames;
 mod manual;
 mod pacing;
+mod range;
 mod replay_cli;
 mod simd;
 mod study;

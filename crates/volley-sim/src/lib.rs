@@ -255,7 +255,8 @@ pub use draw::{DEFAULT_DRAW, DEFAULT_POLICY, Draw, DrawAt, DrawMode, LEAD_WINDOW
 pub use exact::{AimError, Arc as LaunchArc};
 pub use firing::{
     Blocked as ShotBlocked, FiringError, Holdover, HoldoverRow, Mode as AimMode, Range as AimRange,
-    Shot, ShotKind, Textbook as TextbookAim, holdover, solve as solve_aim,
+    RangeRow, RangeTable, Shot, ShotKind, Textbook as TextbookAim, holdover, range_table,
+    solve as solve_aim,
 };
 pub use forces::{
     AirModel, CustomForce, CustomForceError, DragCurve, DragSize, ForceInput, ForceKind, ForceTerm,

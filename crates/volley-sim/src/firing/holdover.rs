@@ -17,6 +17,13 @@ pub struct HoldoverRow {
     pub hold_moa: f64,
     /// The same as a length at the target (m): `range * tan(hold)`.
     pub hold_at_target: f64,
+    /// The zeroed shot's height against the line of sight at this range (m), read by the
+    /// range table's `Downrange` event on its path ([`range_table`]); `NaN` if it fell short.
+    pub path_height: f64,
+    /// The hold a one-trajectory calculator prints from that height, `atan(-path_height /
+    /// range)` (mrad): the zeroed path held up by the angle it is low, ignoring that a shot fired
+    /// higher flies a slightly different path (the difference from `hold_mrad`).
+    pub path_hold_mrad: f64,
 }
 
 /// A zero and the holdover table beside it.
@@ -83,12 +90,27 @@ pub fn holdover(
         })
     };
     let zero_shot = hit(zero)?;
+    // The zeroed shot's own path, read at every range by the same declared events.
+    let mut zeroed = scene.clone();
+    zeroed.launcher.elevation_deg = zero_shot.elevation_deg;
+    zeroed.launcher.azimuth_deg = zero_shot.azimuth_deg;
+    let horizon = DEFAULT_MAX_FLIGHT_TIME;
+    let path = range_table(&zeroed, ranges, horizon)?;
+    let height_at = |range: f64| {
+        path.rows
+            .iter()
+            .find(|r| r.range == range)
+            .map_or(f64::NAN, |r| r.height - sight_height)
+    };
     let rows = ranges
         .iter()
         .map(|&range| {
             let shot = hit(range)?;
             let hold = (shot.elevation_deg - zero_shot.elevation_deg).to_radians();
+            let path_height = height_at(range);
             Ok(HoldoverRow {
+                path_height,
+                path_hold_mrad: libm::atan(-path_height / range) * 1e3,
                 range,
                 shot,
                 hold_mrad: hold * 1e3,

@@ -22,6 +22,7 @@ mod in_code;
 mod layers;
 mod levels;
 mod parallel;
+mod range_table;
 mod rest_event;
 mod rocket;
 mod scene_headers;
