@@ -90,7 +90,8 @@ pub enum Action {
     TogglePanel,
     /// Show or hide the live plots.
     TogglePlots,
-    /// Show or hide the markers (0.1 s, 1 s, apex, impacts) on the first bodies' paths.
+    /// Show or hide the markers (0.1 s, 1 s, apex, impacts, declared events) on the first
+    /// bodies' paths.
     ToggleMarkers,
     /// Show or hide the velocity and force arrows on the first bodies.
     ToggleVectors,
@@ -183,7 +184,7 @@ pub const SHORTCUTS: [(&str, &str); 24] = [
     ("T and G", "trails, ghosts on / off"),
     ("H or F1", "panel on / off"),
     ("K", "live plots on / off"),
-    ("M", "markers (0.1 s, 1 s, apex, impacts) on / off"),
+    ("M", "markers (0.1 s, 1 s, apex, impacts, events) on / off"),
     ("Y", "velocity and force arrows on / off"),
     ("Home", "frame the scene"),
     ("P / Esc", "screenshot to ./volley-tickN.png / quit"),

@@ -1,6 +1,8 @@
 //! Picking what is under the pointer for the probe: a lane's first bodies, their recent path
 //! and their markers, nearest in screen space within a few pixels.
 
+use std::borrow::Cow;
+
 use crate::app::session::Session;
 use crate::render::probe::{MarkerKind, Probe, Sample, Track};
 use crate::render::{OrbitCamera, Viewport};
@@ -17,11 +19,11 @@ pub fn pick(
     at: (f32, f32),
     radius: f32,
 ) -> Option<Probe> {
-    let mut best: Option<(f32, usize, &Track, &'static str, Sample)> = None;
+    let mut best: Option<(f32, usize, &Track, Cow<'static, str>, Sample)> = None;
     for (k, lane) in session.lanes().iter().enumerate() {
         let world = &lane.sim.world;
         for track in lane.history.probe.tracks() {
-            let mut consider = |what: &'static str, s: Sample, bias: f32| {
+            let mut consider = |what: Cow<'static, str>, s: Sample, bias: f32| {
                 let Some(px) = camera.project(s.p, viewport) else {
                     return;
                 };
@@ -37,13 +39,13 @@ pub fn pick(
                     p: world.bodies().state(i).p,
                     v: world.velocity(i),
                 };
-                consider("body", now, 2.0);
+                consider(Cow::Borrowed("body"), now, 2.0);
             }
             for m in &track.markers {
-                consider(marker_name(m.kind), m.at, 1.0);
+                consider(marker_label(m.kind, world), m.at, 1.0);
             }
             for s in &track.samples {
-                consider("trail", *s, 0.0);
+                consider(Cow::Borrowed("trail"), *s, 0.0);
             }
         }
     }
@@ -54,7 +56,7 @@ pub fn pick(
         name,
         &lane.sim.world,
         track,
-        what,
+        &what,
         s,
         &lane.history.references,
     ))
@@ -67,6 +69,18 @@ pub fn marker_name(kind: MarkerKind) -> &'static str {
         MarkerKind::Second => "1 s marker",
         MarkerKind::Apex => "apex",
         MarkerKind::Impact => "impact",
+        MarkerKind::Declared(_) => "event",
+    }
+}
+
+/// What the probe calls a marker: its name, and a declared event's label after `event`.
+fn marker_label(kind: MarkerKind, world: &crate::world::World) -> Cow<'static, str> {
+    match kind {
+        MarkerKind::Declared(i) => match world.declared_events().specs().get(i as usize) {
+            Some(spec) => Cow::Owned(format!("event {}", spec.label())),
+            None => Cow::Borrowed("event"),
+        },
+        _ => Cow::Borrowed(marker_name(kind)),
     }
 }
 
@@ -90,6 +104,10 @@ pub fn marker_on_screen(
     kind: MarkerKind,
 ) -> Option<(f32, f32)> {
     let track = session.lanes()[0].history.probe.tracks().first()?;
-    let m = track.markers.iter().rev().find(|m| m.kind == kind)?;
+    let same = |m: MarkerKind| match (m, kind) {
+        (MarkerKind::Declared(_), MarkerKind::Declared(_)) => true,
+        _ => m == kind,
+    };
+    let m = track.markers.iter().rev().find(|m| same(m.kind))?;
     camera.project(m.at.p, viewport).map(|v| (v.x, v.y))
 }

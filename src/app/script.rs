@@ -10,7 +10,7 @@
 //! key space        # named keys: space, up, down, left, right, pageup, pagedown, home, end,
 //!                  # backspace, f1, escape
 //! hover body 0     # the pointer on lane 0's body 0: the probe reads it
-//! hover marker apex  # on body 0's last marker of a kind: tenth, second, apex, impact
+//! hover marker apex  # on body 0's last marker of a kind: tenth, second, apex, impact, event
 //! pin              # pin the probe there (a click on the 3D view)
 //! drag launcher 40 0   # press on the launcher, move 40 px right, release: it moves on the ground
 //! drag handle 0 -20    # the aim handle 20 px up: 10 degrees more elevation
@@ -281,7 +281,7 @@ fn hover_step(
     error: &dyn Fn(&str, String) -> ScriptError,
 ) -> Result<Step, ScriptError> {
     use crate::render::probe::MarkerKind as K;
-    let expected = "expected `hover body N` or `hover marker tenth|second|apex|impact`";
+    let expected = "expected `hover body N` or `hover marker tenth|second|apex|impact|event`";
     match (what, arg) {
         (Some("body"), Some(n)) => n
             .parse::<usize>()
@@ -293,6 +293,7 @@ fn hover_step(
                 "second" => K::Second,
                 "apex" => K::Apex,
                 "impact" => K::Impact,
+                "event" => K::Declared(0),
                 _ => return Err(error(kind, format!("{expected}, got `{kind}`"))),
             };
             Ok(Step::Key(

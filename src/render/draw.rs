@@ -185,6 +185,8 @@ impl ArrowScale {
 pub const APEX: Rgba = [250, 250, 255, 255];
 /// Colour of impact markers.
 pub const IMPACT: Rgba = [255, 220, 60, 255];
+/// Declared events' markers: magenta, apart from every lane colour.
+pub const EVENT: Rgba = [255, 80, 220, 255];
 /// Colour of net-force arrows.
 pub const FORCE: Rgba = [255, 90, 200, 255];
 /// Colour of Magnus-lift arrows (a spun Mach drag).
@@ -263,7 +265,7 @@ impl DrawList {
     }
 
     /// The markers of a lane's first bodies as small spheres: tenths dim, seconds in the
-    /// lane's colour and twice the size, apexes white, impacts yellow.
+    /// lane's colour and twice the size, apexes white, impacts yellow, declared events magenta.
     fn markers(&mut self, lane: &Lane<'_>, options: &DrawOptions) {
         use crate::render::probe::MarkerKind as K;
         let small = (0.0025 * options.scale) as f32;
@@ -277,6 +279,7 @@ impl DrawList {
                     K::Second => (2.0 * small, lane.colour),
                     K::Apex => (2.5 * small, APEX),
                     K::Impact => (2.5 * small, IMPACT),
+                    K::Declared(_) => (3.0 * small, EVENT),
                 };
                 self.solid.push(SphereInstance {
                     center: rel(m.at.p, options.origin),

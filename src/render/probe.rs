@@ -3,10 +3,13 @@
 //! Each such body keeps its last [`TRACK_SAMPLES`] ticks (tick, position, velocity: the trail
 //! with the state behind it) and its markers, PhET's dots: every 0.1 s and every 1 s of sim time
 //! since it spawned, at the apex (where the vertical velocity changes sign from up to down) and
-//! at each impact. A marker between two ticks sits where the straight segment between them is at
+//! at each impact, and at each of the scene's declared events. A marker between two ticks sits where the straight segment between them is at
 //! the marker's time (the apex: where the vertical velocity, linear between the ticks, is 0), so
 //! the dots lie on the drawn trail. An impact marker is at the contact's own time, back from the
-//! tick's end along the velocity after the bounce. A body keeps its last [`MARKERS`] markers.
+//! tick's end along the velocity after the bounce. A declared event's marker is the event's own
+//! time and state (found on the integrator's path inside the step, docs/physics.md "Declared
+//! events"), so it can sit a little off the straight trail between two ticks. A body keeps its
+//! last [`MARKERS`] markers.
 //!
 //! The probe ([`Probe`]) is what is read at a picked sample or marker: tick, sim time, p, V,
 //! |V|, the energy and the error against the body's closed-form reference there.
@@ -39,6 +42,8 @@ pub enum MarkerKind {
     Apex,
     /// A bounce on the ground or a wall.
     Impact,
+    /// A declared event of the scene: its index in the scene's events.
+    Declared(u32),
 }
 
 /// A point of a body's path with its state.
@@ -150,6 +155,25 @@ impl ProbeHistory {
             track.samples.push_back(now);
         }
         for e in world.events() {
+            if let EventKind::Declared { event, state, .. } = e.kind
+                && let Ok(k) = self.tracks.binary_search_by_key(&e.body, |t| t.id)
+            {
+                // The event's own state; the mass the body has now (a motor's changes).
+                let mass = bodies
+                    .index_of(e.body)
+                    .map_or(self.tracks[k].mass, |i| bodies.masses()[i]);
+                let at = Sample {
+                    tick: e.tick,
+                    t: e.time,
+                    p: state.p,
+                    v: state.mv / mass,
+                };
+                self.tracks[k].push(Marker {
+                    kind: MarkerKind::Declared(event),
+                    at,
+                });
+                continue;
+            }
             if let EventKind::Impact { .. } = e.kind
                 && let Ok(k) = self.tracks.binary_search_by_key(&e.body, |t| t.id)
                 && let Some(&end) = self.tracks[k].samples.back()

@@ -136,7 +136,7 @@ fn arrows_are_the_velocity_and_the_net_force_to_the_stated_scale() {
 fn a_script_hovers_and_pins_the_probe_on_an_apex_in_the_real_window() {
     let test = "a_script_hovers_and_pins_the_probe_on_an_apex_in_the_real_window";
     let extra = ["--compare", "explicit-euler,rk4", "--time-scale", "4"];
-    let Some((probe, shot)) = pinned_probe(test, "seed", 45, 60, &extra) else {
+    let Some((probe, shot)) = pinned_probe(test, "seed", "apex", 45, 60, &extra) else {
         return;
     };
     // Pinned on lane 0's (explicit Euler's) apex: vertical speed 0 there, and its error.
@@ -242,11 +242,76 @@ fn over_a_spun_ball_and_a_rocket_the_probe_reads_the_spin_the_thrust_and_the_mas
     assert!(mass < 0.0571 && mass > 0.0463, "{mass}");
 }
 
+/// tests/data/declared_events.ron: its two declared events as markers at their own times and
+/// states (RK4 is exact under constant gravity, so the closed form to the root search's
+/// 1e-9 s), and the probe naming the event.
+#[test]
+fn declared_events_are_markers_at_their_exact_time_and_state() {
+    let path = support::crate_path("tests/data/declared_events.ron");
+    let mut s = Session::new(scene::load(&path).unwrap(), &path, vec![Integrator::Rk4]);
+    s.run_ticks(160).unwrap();
+    let lane = &s.lanes()[0];
+    let track = &lane.history.probe.tracks()[0];
+    let events: Vec<_> = track
+        .markers
+        .iter()
+        .filter(|m| matches!(m.kind, MarkerKind::Declared(_)))
+        .collect();
+    assert_eq!(events.len(), 2, "{events:?}");
+    // "10 m up", rising: 15 t - 4.905 t^2 = 10.
+    let up = (15.0 - (225.0f64 - 196.2).sqrt()) / 9.81;
+    assert_eq!(events[0].kind, MarkerKind::Declared(0));
+    assert!((events[0].at.t - up).abs() < 1e-9, "{}", events[0].at.t);
+    assert!((events[0].at.p.z - 10.0).abs() < 1e-9, "{}", events[0].at.p);
+    assert!((events[0].at.v.z - (15.0 - 9.81 * up)).abs() < 1e-8);
+    // "30.5 m out": t = 30.5 / 12 s, in tick 153.
+    let out = 30.5 / 12.0;
+    let z = 15.0 * out - 4.905 * out * out;
+    assert_eq!(events[1].kind, MarkerKind::Declared(1));
+    assert!((events[1].at.t - out).abs() < 1e-9, "{}", events[1].at.t);
+    assert!((events[1].at.p - DVec3::new(30.5, 0.0, z)).length() < 1e-8);
+    assert_eq!(events[1].at.tick, 153);
+    let probe = Probe::read(
+        "rk4",
+        &lane.sim.world,
+        track,
+        "event 30.5 m out",
+        events[1].at,
+        &lane.history.references,
+    );
+    let lines = probe.lines();
+    assert_eq!(lines[0], "rk4 body 0 (event 30.5 m out)");
+    assert_eq!(lines[1], "tick 153, t = 2.5417 s");
+    assert_eq!(lines[2], "p = (30.5000, 0.0000, 6.4384) m");
+}
+
+#[test]
+fn a_script_pins_the_probe_on_a_declared_event_in_the_real_window() {
+    let test = "a_script_pins_the_probe_on_a_declared_event_in_the_real_window";
+    // "30.5 m out" is in tick 153: hover the last event marker after 170 frames.
+    let scene = support::crate_path("tests/data/declared_events.ron");
+    let Some((probe, shot)) = pinned_probe(test, scene.to_str().unwrap(), "event", 170, 190, &[])
+    else {
+        return;
+    };
+    assert!(probe.contains("body 0 (event 30.5 m out)"), "{probe}");
+    assert!(probe.contains("tick 153, t = 2.5417 s"), "{probe}");
+    assert!(probe.contains("p = (30.5000, 0.0000, 6.4384) m"), "{probe}");
+    // The markers are drawn: magenta pixels (the event colour) in the screenshot.
+    let image = volley::render::Image::load_png(&shot).unwrap();
+    let magenta = image
+        .rgba
+        .chunks(4)
+        .filter(|p| p[0] > 200 && p[1] < 140 && p[2] > 170)
+        .count();
+    assert!(magenta > 10, "{magenta}");
+}
+
 #[test]
 fn a_script_pins_the_probe_on_the_rifle_bullet_in_the_real_window() {
     let test = "a_script_pins_the_probe_on_the_rifle_bullet_in_the_real_window";
     // The rifle's apex is near t = 1 s: hover it after 75 frames (1.25 s at 60 Hz).
-    let Some((probe, _)) = pinned_probe(test, "rifle", 75, 95, &[]) else {
+    let Some((probe, _)) = pinned_probe(test, "rifle", "apex", 75, 95, &[]) else {
         return;
     };
     assert!(probe.contains("body 0 (apex)"), "{probe}");
@@ -254,12 +319,14 @@ fn a_script_pins_the_probe_on_the_rifle_bullet_in_the_real_window() {
     assert!(probe.contains(" kg/m^3"), "{probe}");
 }
 
-/// Runs the real window on `scene` with a script that waits `wait` frames, hovers the apex
-/// marker and pins the probe there, for `frames` frames in all with `extra` arguments; the
-/// probe line it prints and its screenshot, or `None` where the window test is skipped.
+/// Runs the real window on `scene` with a script that waits `wait` frames, hovers the last
+/// marker of kind `marker` and pins the probe there, for `frames` frames in all with `extra`
+/// arguments; the probe line it prints and its screenshot, or `None` where the window test is
+/// skipped.
 fn pinned_probe(
     test: &str,
     scene: &str,
+    marker: &str,
     wait: u32,
     frames: u32,
     extra: &[&str],
@@ -268,7 +335,7 @@ fn pinned_probe(
     let script = dir.join("probe.script");
     std::fs::write(
         &script,
-        format!("wait {wait}\nhover marker apex\nwait 2\npin\nwait 10\n"),
+        format!("wait {wait}\nhover marker {marker}\nwait 2\npin\nwait 10\n"),
     )
     .unwrap();
     let shot = dir.join("probe.png");
