@@ -174,9 +174,12 @@ fn read_peer() -> Option<(String, Vec<PeerRun>)> {
     Some((json["peer"].as_str()?.to_string(), runs))
 }
 
+/// One of the peer's rifle tables: its air's name, the density (kg/m^3) and the rows.
+type PeerTable = (String, f64, Vec<[f64; 7]>);
+
 /// The peer's rifle tables (`rifle` in its JSON): per air, its density and its rows (range,
 /// height, windage, speed, Mach, energy, time).
-fn read_peer_rifle() -> Option<Vec<(String, f64, Vec<[f64; 7]>)>> {
+fn read_peer_rifle() -> Option<Vec<PeerTable>> {
     let path = std::env::var_os("VOLLEY_PEER_JSON")?;
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&path).ok()?).ok()?;
