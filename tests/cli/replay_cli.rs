@@ -248,3 +248,48 @@ fn a_recording_with_a_games_own_term_names_it_and_is_refused_without_it() {
     );
     let _ = std::fs::remove_file(&file);
 }
+
+#[test]
+fn a_replay_lists_the_declared_events_the_run_had() {
+    // tests/data/declared_events.ron: "10 m up" in tick 59 and "30.5 m out" in tick 153.
+    let dir = crate::support::scratch_dir("replay_declared_events");
+    let file = dir.join("events.vrec");
+    let scene = crate::support::ws("tests/data/declared_events.ron");
+    let rec = crate::support::volley_output(
+        &[
+            "record",
+            scene.to_str().unwrap(),
+            "--ticks",
+            "200",
+            "-o",
+            file.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(
+        rec.status.success(),
+        "{}",
+        String::from_utf8_lossy(&rec.stderr)
+    );
+    let run = crate::support::volley_stdout(
+        &["headless", scene.to_str().unwrap(), "--ticks", "200"],
+        &[],
+    );
+    let replay =
+        crate::support::volley_stdout(&["replay", file.to_str().unwrap(), "--headless"], &[]);
+    let declared = |text: &str| -> Vec<String> {
+        text.lines()
+            .filter(|l| l.starts_with("event ") && (l.contains("m up") || l.contains("m out")))
+            .map(str::to_string)
+            .collect()
+    };
+    let seen = declared(&replay);
+    assert_eq!(seen.len(), 2, "{replay}");
+    assert!(seen[0].starts_with("event tick 59 ") && seen[0].contains("10 m up rising"));
+    assert!(seen[1].starts_with("event tick 153 ") && seen[1].contains("30.5 m out rising"));
+    assert_eq!(
+        seen,
+        declared(&run),
+        "the replay lists what the run printed"
+    );
+}
