@@ -527,8 +527,8 @@ fn crossings<S: Scheme>(
         // The zero it started on, left this way: the finder's last point before the root is
         // the start, or a point so near it that the function is still exactly zero there (the
         // position has not yet moved by an ulp: on a plane, for `tau < ulp(p) / |V|`).
-        let left_start = lo.tau == start.tau
-            || (lo.value == 0.0 && lo.tau - start.tau <= 1e-6 * seg.duration);
+        let left_start =
+            lo.tau == start.tau || (lo.value == 0.0 && lo.tau - start.tau <= 1e-6 * seg.duration);
         if on_zero && left_start {
             if fresh_start {
                 found.push(at_start(seg, direction));
@@ -685,7 +685,13 @@ fn touch_window(test: &Test, seg: &Segment) -> f64 {
         return window;
     };
     let a = n.dot((seg.end.mv - seg.start.mv) * seg.body.w.inv).abs() / seg.duration;
-    let size = seg.start.p.abs().max_element().max(seg.end.p.abs().max_element()) + d.abs();
+    let size = seg
+        .start
+        .p
+        .abs()
+        .max_element()
+        .max(seg.end.p.abs().max_element())
+        + d.abs();
     let tol = 2.0 * rounding(size);
     let width = 2.0 * (2.0 * tol / a).sqrt();
     if width.is_finite() {
