@@ -413,6 +413,13 @@ pub(crate) fn on_segment<S: Scheme>(
             }
         }
         let mut found = crossings(scheme, &watch.test, seg, (ga, gb), path);
+        if on_zero && seg.fresh {
+            for f in found.iter_mut().filter(|f| f.tau == 0.0 && !f.graze) {
+                if let Some(way) = departure(&watch.test, seg, path) {
+                    f.direction = way;
+                }
+            }
+        }
         if let Test::Linear { n, d } = watch.test {
             for f in found.iter_mut().filter(|f| f.graze) {
                 refine_graze(f, (n, d), seg, path);
@@ -764,6 +771,33 @@ fn refine_graze(
     let (tau, _) = crate::contact::roots::bracketed_root(|t| rate(&path(t)), (lo, ra), (hi, rb));
     f.tau = tau;
     f.s = path(tau);
+}
+
+/// The way a path that starts exactly on zero leaves it: the sign of the function where it
+/// first gets farther from zero than rounding, looked at from the touch window on, doubling.
+/// Near the start the function can be rounding noise of either sign (a position that has not
+/// moved an ulp, a partial step whose sub-steps round the other way, a speed's square root),
+/// which the first-root search would otherwise take for the way it left.
+fn departure(
+    test: &Test,
+    seg: &Segment,
+    path: &mut impl FnMut(f64) -> BodyState,
+) -> Option<EventDirection> {
+    let mut tau = touch_window(test, seg);
+    while tau < seg.duration {
+        let s = path(tau);
+        let value = test.value(seg.since + tau, &s, seg.body.w.inv);
+        let p = PathPoint { tau, s, value };
+        if value.abs() > 2.0 * rounding_of(test, seg, &p) {
+            return Some(if value > 0.0 {
+                EventDirection::Rising
+            } else {
+                EventDirection::Falling
+            });
+        }
+        tau *= 2.0;
+    }
+    None
 }
 
 /// A run of touches, as one graze approached from the side `direction` says.
