@@ -413,9 +413,16 @@ pub(crate) fn on_segment<S: Scheme>(
             }
         }
         let mut found = crossings(scheme, &watch.test, seg, (ga, gb), path);
-        if let Test::Linear { n, .. } = watch.test {
+        if on_zero && seg.fresh {
+            for f in found.iter_mut().filter(|f| f.tau == 0.0 && !f.graze) {
+                if let Some(way) = departure(&watch.test, seg, path) {
+                    f.direction = way;
+                }
+            }
+        }
+        if let Test::Linear { n, d } = watch.test {
             for f in found.iter_mut().filter(|f| f.graze) {
-                refine_graze(f, n, seg, path);
+                refine_graze(f, (n, d), seg, path);
             }
         }
         for f in found {
@@ -524,8 +531,12 @@ fn crossings<S: Scheme>(
             break;
         };
         let mut pushed = None;
-        if on_zero && lo.tau == start.tau {
-            // The zero it started on, left this way.
+        // The zero it started on, left this way: the finder's last point before the root is
+        // the start, or a point so near it that the function is still exactly zero there (the
+        // position has not yet moved by an ulp: on a plane, for `tau < ulp(p) / |V|`).
+        let left_start =
+            lo.tau == start.tau || (lo.value == 0.0 && lo.tau - start.tau <= 1e-6 * seg.duration);
+        if on_zero && left_start {
             if fresh_start {
                 found.push(at_start(seg, direction));
             }
@@ -594,7 +605,7 @@ fn merge_touches(
     if found.is_empty() {
         return found;
     }
-    let window = 1e-6 * seg.duration;
+    let window = touch_window(test, seg);
     let inv = seg.body.w.inv;
     let mut out: Vec<Found> = Vec::with_capacity(found.len());
     let mut i = 0;
@@ -670,6 +681,33 @@ fn merge_touches(
     out
 }
 
+/// How close together (s) sign changes must be to be one touch: a millionth of the segment,
+/// or for a plane, the time over which a path tangent to it stays within rounding of it. A
+/// path at `a` along the normal that overshoots the plane by `delta <= tol` (rounding) crosses
+/// it twice, `2 sqrt(2 delta / |a|)` apart: at 2 m/s^2 and 40 m, about 3e-7 s, more than a
+/// millionth of a 60 Hz tick.
+fn touch_window(test: &Test, seg: &Segment) -> f64 {
+    let window = 1e-6 * seg.duration;
+    let Test::Linear { n, d } = test else {
+        return window;
+    };
+    let a = n.dot((seg.end.mv - seg.start.mv) * seg.body.w.inv).abs() / seg.duration;
+    let size = seg
+        .start
+        .p
+        .abs()
+        .max_element()
+        .max(seg.end.p.abs().max_element())
+        + d.abs();
+    let tol = 2.0 * rounding(size);
+    let width = 2.0 * (2.0 * tol / a).sqrt();
+    if width.is_finite() {
+        window.max(width)
+    } else {
+        window
+    }
+}
+
 /// Whether a plane's function, at the report `f`, turns back within `tol` of zero: at the
 /// segment's mean acceleration along the normal `a`, a rate `r` against it goes on for `r^2 /
 /// 2|a|` before turning. A path that would not leave rounding before turning is a tangent.
@@ -680,7 +718,9 @@ fn turns_back(n: DVec3, f: &Found, seg: &Segment, tol: f64) -> bool {
     if r == 0.0 {
         return true;
     }
-    r * a < 0.0 && r * r <= 2.0 * a.abs() * tol
+    // Either side of the turn: a sample just past it moves away from the plane, but the path
+    // it is on turned within `r^2 / 2|a|` of it all the same.
+    r * r <= 2.0 * a.abs() * tol
 }
 
 /// Rounding of a function's value near the point `p`.
@@ -702,9 +742,14 @@ fn rounding_of(test: &Test, seg: &Segment, p: &PathPoint) -> f64 {
 /// finder finds to a few ulps, where the touch itself is known only to the width over which the
 /// path stays within rounding of the plane (`sqrt(rounding / curvature)`). Looked for around
 /// the touch, within a millionth of the segment; kept as found if it does not change sign there.
-fn refine_graze(f: &mut Found, n: DVec3, seg: &Segment, path: &mut impl FnMut(f64) -> BodyState) {
+fn refine_graze(
+    f: &mut Found,
+    (n, d): (DVec3, f64),
+    seg: &Segment,
+    path: &mut impl FnMut(f64) -> BodyState,
+) {
     let inv = seg.body.w.inv;
-    let half = 1e-6 * seg.duration;
+    let half = touch_window(&Test::Linear { n, d }, seg);
     let (lo, hi) = ((f.tau - half).max(0.0), (f.tau + half).min(seg.duration));
     let rate = |s: &BodyState| n.dot(s.mv * inv);
     let (a, b) = (path(lo), path(hi));
@@ -726,6 +771,33 @@ fn refine_graze(f: &mut Found, n: DVec3, seg: &Segment, path: &mut impl FnMut(f6
     let (tau, _) = crate::contact::roots::bracketed_root(|t| rate(&path(t)), (lo, ra), (hi, rb));
     f.tau = tau;
     f.s = path(tau);
+}
+
+/// The way a path that starts exactly on zero leaves it: the sign of the function where it
+/// first gets farther from zero than rounding, looked at from the touch window on, doubling.
+/// Near the start the function can be rounding noise of either sign (a position that has not
+/// moved an ulp, a partial step whose sub-steps round the other way, a speed's square root),
+/// which the first-root search would otherwise take for the way it left.
+fn departure(
+    test: &Test,
+    seg: &Segment,
+    path: &mut impl FnMut(f64) -> BodyState,
+) -> Option<EventDirection> {
+    let mut tau = touch_window(test, seg);
+    while tau < seg.duration {
+        let s = path(tau);
+        let value = test.value(seg.since + tau, &s, seg.body.w.inv);
+        let p = PathPoint { tau, s, value };
+        if value.abs() > 2.0 * rounding_of(test, seg, &p) {
+            return Some(if value > 0.0 {
+                EventDirection::Rising
+            } else {
+                EventDirection::Falling
+            });
+        }
+        tau *= 2.0;
+    }
+    None
 }
 
 /// A run of touches, as one graze approached from the side `direction` says.

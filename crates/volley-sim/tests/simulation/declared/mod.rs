@@ -1,6 +1,7 @@
 //! Declared events (docs/physics.md, "Declared events"): crossings, apexes, speeds, Mach numbers
 //! and closest approaches, found once each with their exact time and state.
 
+mod adversarial;
 mod basic;
 mod kinds;
 
