@@ -73,26 +73,22 @@ pub const MIN_GAP: f64 = 1e-4;
 
 const EPS: f64 = f64::EPSILON;
 
-/// SplitMix64 (Steele, Lea and Flood 2014), the whole generator.
+/// The crate's SplitMix64 (Steele, Lea and Flood 2014), the world's own generator.
 #[derive(Clone, Debug)]
-pub struct Rng(u64);
+pub struct Rng(volley_sim::SplitMix64);
 
 impl Rng {
     pub fn new(seed: u64) -> Rng {
-        Rng(seed)
+        Rng(volley_sim::SplitMix64(seed))
     }
 
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// Uniform in [0, 1), 53 bits.
     pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+        self.0.next_f64()
     }
 
     pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
