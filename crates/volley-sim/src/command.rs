@@ -230,6 +230,14 @@ impl World {
             }
         }
         self.carry_valid = false;
+        // Forces, integrator or bodies may have changed: every horizon is void, but for a
+        // spawn's or a despawn's, which keep the others' ([`World::spawn`]).
+        if !matches!(
+            command,
+            Command::Fire | Command::Spawn(_) | Command::Despawn(_)
+        ) {
+            self.scratch.due.clear();
+        }
         self.rebase_energy_caps();
         Ok(())
     }

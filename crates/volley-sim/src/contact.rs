@@ -16,7 +16,7 @@ use crate::body::{BodyId, BodyState, Mass};
 use crate::integrate::Scheme;
 
 mod bvh;
-mod events;
+pub(crate) mod events;
 mod heightfield;
 mod level;
 mod level_contact;
@@ -65,6 +65,9 @@ pub(crate) struct StepContext<'a> {
     /// Bodies spawned since the last tick, in id order, for a step with declared events (their
     /// first segment reports a function exactly zero at its start); empty otherwise.
     pub fresh: &'a [BodyId],
+    /// The declared events' horizons, in a world with events whose forces are a constant field
+    /// ([`events::horizon`]); `None` searches every body every step.
+    pub horizon: Option<&'a events::horizon::Horizon<'a>>,
 }
 
 /// The body being resolved.

@@ -289,6 +289,13 @@ pub(crate) struct Scratch {
     /// Bodies spawned since the last tick, in id order, in a world with declared events: their
     /// first segment reports an event whose function is zero at the spawn.
     pub(crate) fresh: Vec<BodyId>,
+    /// Per body, the step number from which its declared events are searched again
+    /// ([`crate::contact::events::horizon`]): a cache the step keeps only in a world with
+    /// events whose forces are a constant field. Valid only while as long as the bodies;
+    /// cleared whenever anything but a step changes them.
+    pub(crate) due: crate::contact::events::horizon::Due,
+    /// Keep no horizons (the tests that show they change nothing).
+    pub(crate) horizons_off: bool,
 }
 
 /// The state [`World::step_ticks`] saves before a batch, to undo it.
@@ -474,6 +481,10 @@ impl World {
         let i = self.state.bodies.len() - 1;
         self.state.bodies.energy_cap[i] = self.energy_cap_of(i);
         self.carry_valid = false;
+        if self.scratch.due.len() == i {
+            // The others' horizons stand; the new body is due at once.
+            self.scratch.due.push();
+        }
         let events = &self.params.contacts.events;
         if !events.is_empty() {
             self.scratch.fresh.push(id);
@@ -488,6 +499,9 @@ impl World {
     pub fn despawn(&mut self, id: BodyId) -> bool {
         match self.state.bodies.index_of(id) {
             Some(i) => {
+                if self.scratch.due.len() == self.state.bodies.len() {
+                    self.scratch.due.remove(i);
+                }
                 self.state.bodies.remove(i);
                 let slots = self.params.contacts.events.body_slots();
                 if slots > 0 {
@@ -508,6 +522,7 @@ impl World {
         self.state.bodies.clear();
         self.state.tallies.per_body.clear();
         self.carry_valid = false;
+        self.scratch.due.clear();
     }
 
     /// The guard's energy bound for body `i`: start energy plus `(factor - 1)` times its scale.

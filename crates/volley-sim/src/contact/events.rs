@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 use crate::body::BodyId;
 use crate::forces::MachDrag;
 
+pub(crate) mod horizon;
 pub(crate) mod search;
 
 /// One declared event: which bodies, which condition, which way, and whether it stops them.

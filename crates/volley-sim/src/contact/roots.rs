@@ -80,6 +80,11 @@ pub(crate) trait Crossing {
     /// Whether the piece from `a` (`> 0`) to `b` (`<= 0`) can be handed to the bracketed root
     /// finder as it is: it holds one root, or two too close to tell apart.
     fn bracketed(&mut self, a: &PathPoint, b: &PathPoint) -> bool;
+    /// Time (s) below which the root finder stops telling roots apart, or 0 for a few ulps of
+    /// the time into the segment. A declared event's is a few ulps of the sim time it reports.
+    fn resolution_time(&self) -> f64 {
+        0.0
+    }
 }
 
 /// A crossing of the position alone that answers for a ball (the level surfaces): the search
@@ -189,7 +194,8 @@ fn refine(
     b: PathPoint,
 ) -> (PathPoint, PathPoint) {
     let mut last: Option<PathPoint> = None;
-    let (tau, _) = bracketed_root(
+    let within = crossing.resolution_time();
+    let (tau, _) = bracketed_root_within(
         |tau| {
             let s = path(tau);
             let value = crossing.value(tau, &s);
@@ -198,6 +204,7 @@ fn refine(
         },
         (a.tau, a.value),
         (b.tau, b.value),
+        within,
     );
     // The finder returns the lo side's time; its state is the last evaluated there, or `a`.
     let lo = match last {
@@ -221,9 +228,23 @@ fn refine(
 /// bisection. Returns the point on `lo`'s side of the root (for a contact: not yet touching)
 /// within a few ulps, and the number of evaluations of `f`.
 pub(crate) fn bracketed_root(
+    f: impl FnMut(f64) -> f64,
+    lo: (f64, f64),
+    hi: (f64, f64),
+) -> (f64, u64) {
+    bracketed_root_within(f, lo, hi, 0.0)
+}
+
+/// [`bracketed_root`], ending once the bracket is `within` wide (when `within > 0`). Each new
+/// point then keeps `within / 2` from both ends, so a root that sits at one end (where regula
+/// falsi would keep landing beside it, shrinking the far side only by the Illinois halvings and
+/// the fourth-step bisections) is bracketed at the next evaluation: a few instead of dozens.
+#[inline(always)]
+pub(crate) fn bracketed_root_within(
     mut f: impl FnMut(f64) -> f64,
     lo: (f64, f64),
     hi: (f64, f64),
+    within: f64,
 ) -> (f64, u64) {
     let ((mut a, mut fa), (mut b, mut fb)) = (lo, hi);
     let positive_at_a = fa >= 0.0;
@@ -233,7 +254,9 @@ pub(crate) fn bracketed_root(
     let mut last_side = 0i8;
     for i in 0..400 {
         let width = b - a;
-        if width.abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs()).max(floor) {
+        if width.abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs()).max(floor)
+            || width.abs() <= within
+        {
             break;
         }
         let mut x = if i % 4 == 3 {
@@ -243,6 +266,13 @@ pub(crate) fn bracketed_root(
         };
         if !((x > a.min(b)) && (x < a.max(b))) {
             x = 0.5 * (a + b);
+        }
+        if within > 0.0 {
+            if fa == 0.0 {
+                // Exactly on the root: the point just past it closes the bracket.
+                x = a + 0.5 * within * (b - a).signum();
+            }
+            x = x.clamp(a.min(b) + 0.5 * within, a.max(b) - 0.5 * within);
         }
         let fx = f(x);
         evals += 1;

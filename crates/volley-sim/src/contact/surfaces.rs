@@ -108,6 +108,16 @@ impl Contacts {
             && self.heightfields.is_empty()
             && self.events.is_empty()
     }
+
+    /// Whether the scene has something to hit: a ground, a wall, a target, a mesh or a
+    /// heightfield (declared events are not).
+    pub fn has_surfaces(&self) -> bool {
+        self.ground.is_some()
+            || !self.walls.is_empty()
+            || !self.targets.is_empty()
+            || !self.meshes.is_empty()
+            || !self.heightfields.is_empty()
+    }
 }
 
 /// Which surface an impact was on.

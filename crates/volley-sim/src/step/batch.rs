@@ -42,6 +42,7 @@ impl World {
             rest_speed: 0.0,
             levels: self.params.contacts.has_levels(),
             fresh: &[],
+            horizon: None,
         };
         let b = &mut self.state.bodies;
         let (fixed, p, mv) = Fixed::of(b, self.facts.reads_launch);

@@ -2,8 +2,11 @@
 //! the non-finite check branch-free, compiled for the baseline CPU, AVX2 and AVX-512 and
 //! dispatched once per chunk by [`simd_level`].
 
+use std::sync::atomic::Ordering::Relaxed;
+
 use glam::DVec3;
 
+use crate::contact::events::horizon::{Horizon, quiet_steps};
 use crate::contact::{self, Detection, Event, Particle, StepContext};
 use crate::integrate::{BodyState, Dense, Scheme, SchemeVisitor, visit_with};
 #[cfg(target_arch = "x86_64")]
@@ -14,16 +17,28 @@ use super::chunk::{Chunk, Fixed, split_run};
 
 impl World {
     /// Integrate + contacts over all bodies; returns the first body whose state is not finite.
+    /// `t0` is the step's start as sim time and as time since tick 0, `k` the substep.
     #[inline]
-    /// `t0` is the step's start as sim time and as time since tick 0.
     pub(super) fn integrate(
         &mut self,
         tick: u64,
         (t0, since): (f64, f64),
         h: f64,
+        k: u32,
     ) -> Option<usize> {
         let (chunks, carries) = self.prepare_chunks();
         let gravity = self.facts.gravity;
+        let horizon = if self.kind == LoopKind::Events && self.prepare_horizons() {
+            self.facts.constant.as_ref().map(|field| Horizon {
+                // The step's number since tick 0, which horizons count in.
+                step: (tick - 1) * u64::from(self.params.substeps) + u64::from(k),
+                field,
+                due: self.scratch.due.column(),
+                surfaces: self.params.contacts.has_surfaces(),
+            })
+        } else {
+            None
+        };
         let ctx = StepContext {
             contacts: &self.params.contacts,
             tick,
@@ -33,6 +48,7 @@ impl World {
             rest_speed: gravity * h,
             levels: self.params.contacts.has_levels(),
             fresh: &self.scratch.fresh,
+            horizon: horizon.as_ref(),
         };
         let b = &mut self.state.bodies;
         let (fixed, p, mv) = Fixed::of(b, self.facts.reads_launch);
@@ -60,6 +76,20 @@ impl World {
             buffer.clear();
         }
         out.first_non_finite
+    }
+}
+
+impl World {
+    /// In a world with declared events: whether the step keeps horizons (every force a
+    /// constant field), sizing them to the bodies if so. Out of line: no other world pays for
+    /// it.
+    #[inline(never)]
+    fn prepare_horizons(&mut self) -> bool {
+        let horizons = self.facts.constant.is_some() && !self.scratch.horizons_off;
+        if horizons && self.scratch.due.len() != self.state.bodies.len() {
+            self.scratch.due.reset(self.state.bodies.len());
+        }
+        horizons
     }
 }
 
@@ -277,10 +307,18 @@ pub(super) fn run_chunk<
     ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
+    if EVENTS && !S::DENSE && !LEVELS && ctx.horizon.is_some_and(|hz| !hz.surfaces) {
+        return run_events_apart::<S, STREAMING>(scheme, l, ctx, events);
+    }
     let n = l.len();
     let (px, py, pz) = (&mut l.px[..n], &mut l.py[..n], &mut l.pz[..n]);
     let (mx, my, mz) = (&mut l.mx[..n], &mut l.my[..n], &mut l.mz[..n]);
     let (mass, inv_mass) = (&l.mass[..n], &l.inv_mass[..n]);
+    // Declared events' horizons, when the step keeps them.
+    let due = match ctx.horizon {
+        Some(hz) if EVENTS => &hz.due[l.offset..l.offset + n],
+        _ => &[],
+    };
     let (cx, cy, cz) = if S::CARRIES_FORCE {
         (&mut l.cx[..n], &mut l.cy[..n], &mut l.cz[..n])
     } else {
@@ -328,7 +366,12 @@ pub(super) fn run_chunk<
             };
             let resolves = contact::needs_resolution::<LEVELS>(ctx, l.radius[i], w.inv, &s0, &s1);
             let swept = ctx.contacts.detection == Detection::Swept;
-            if !(resolves && swept) {
+            // Within its horizon a body's search would find nothing: skipped.
+            let quiet = match ctx.horizon {
+                Some(hz) if !due.is_empty() => !resolves && hz.step < due[i].load(Relaxed),
+                _ => false,
+            };
+            if !(quiet || (resolves && swept)) {
                 // The whole step is one segment (discrete detection's before its push-out).
                 if S::DENSE {
                     contact::events_on_dense_step(scheme, ctx, body, (s0, s1), &dense, events);
@@ -358,6 +401,20 @@ pub(super) fn run_chunk<
                     &mut event_evals,
                 );
                 evals += extra;
+            }
+            if let Some(hz) = ctx.horizon
+                && !due.is_empty()
+                && !quiet
+            {
+                // A bounce is a new path: due again at once.
+                let next = if resolves {
+                    0
+                } else {
+                    let a = hz.field.gravity + hz.field.force * w.inv;
+                    let set = &ctx.contacts.events;
+                    hz.step + 1 + quiet_steps(set, body.id, &s1, w.inv, a, h)
+                };
+                due[i].store(next, Relaxed);
             }
         } else if CONTACTS && contact::needs_resolution::<LEVELS>(ctx, l.radius[i], w.inv, &s0, &s1)
         {
@@ -401,4 +458,90 @@ pub(super) fn run_chunk<
         carried: S::CARRIES_FORCE,
         event_evals,
     }
+}
+
+/// Bodies per block of the due scan in [`run_events_apart`]: a block none of whose bodies is
+/// due is passed over in one vector compare.
+const DUE_BLOCK: usize = 8;
+
+/// A chunk of a world with declared events, horizons and nothing to hit: the bodies step as in
+/// a world without events (the vectorised loop), then the search runs on the few whose
+/// horizon ends, from the start states saved before the step. The same searches on the same
+/// segments as the joint loop, in the same body order, so the same events and bits; a scheme
+/// with a continuous extension ([`Scheme::DENSE`]) keeps the joint loop, which has it.
+#[inline(always)]
+fn run_events_apart<S: Scheme, const STREAMING: bool>(
+    scheme: &S,
+    l: &mut Chunk,
+    ctx: &StepContext,
+    events: &mut Vec<Event>,
+) -> KernelOut {
+    let n = l.len();
+    let Some(hz) = ctx.horizon else {
+        unreachable!("called only with horizons")
+    };
+    // The due bodies, with their start states and carried forces.
+    let due = &hz.due[l.offset..l.offset + n];
+    let mut starts: Vec<(usize, BodyState, DVec3)> = Vec::new();
+    let mut block = 0;
+    while block < n {
+        let end = (block + DUE_BLOCK).min(n);
+        if due[block..end]
+            .iter()
+            .fold(false, |any, d| any | (d.load(Relaxed) <= hz.step))
+        {
+            // `i` indexes the state's eight columns, not only `due`.
+            #[allow(clippy::needless_range_loop)]
+            for i in block..end {
+                if due[i].load(Relaxed) <= hz.step {
+                    let s0 = BodyState {
+                        p: DVec3::new(l.px[i], l.py[i], l.pz[i]),
+                        mv: DVec3::new(l.mx[i], l.my[i], l.mz[i]),
+                    };
+                    let c0 = if S::CARRIES_FORCE {
+                        DVec3::new(l.cx[i], l.cy[i], l.cz[i])
+                    } else {
+                        DVec3::ZERO
+                    };
+                    starts.push((i, s0, c0));
+                }
+            }
+        }
+        block = end;
+    }
+    let mut out = run_chunk::<S, false, false, false, STREAMING>(scheme, l, ctx, events);
+    let mut event_evals = 0u64;
+    for (i, s0, c0) in starts {
+        let w = if STREAMING {
+            l.launch.mass::<S>(i, l.mass[i], 1.0 / l.mass[i])
+        } else {
+            l.launch.mass::<S>(i, l.mass[i], l.inv_mass[i])
+        };
+        let s1 = BodyState {
+            p: DVec3::new(l.px[i], l.py[i], l.pz[i]),
+            mv: DVec3::new(l.mx[i], l.my[i], l.mz[i]),
+        };
+        let body = Particle {
+            id: l.ids[i],
+            w,
+            r: l.radius[i],
+            fresh: ctx.fresh.binary_search(&l.ids[i]).is_ok(),
+        };
+        contact::events_on_segment(
+            scheme,
+            ctx,
+            body,
+            0.0,
+            (s0, c0),
+            ctx.h,
+            s1,
+            events,
+            &mut event_evals,
+        );
+        let a = hz.field.gravity + hz.field.force * w.inv;
+        let quiet = quiet_steps(&ctx.contacts.events, body.id, &s1, w.inv, a, ctx.h);
+        due[i].store(hz.step + 1 + quiet, Relaxed);
+    }
+    out.event_evals += event_evals;
+    out
 }

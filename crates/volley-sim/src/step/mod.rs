@@ -58,7 +58,7 @@ impl World {
             let t0 = self.time_of(self.state.tick) + f64::from(k) * h_sub;
             let since = self.state.tick as f64 * self.params.h + f64::from(k) * h_sub;
             let first_event = self.scratch.events.len();
-            if let Some(i) = self.integrate(next_tick, (t0, since), h_sub) {
+            if let Some(i) = self.integrate(next_tick, (t0, since), h_sub, k) {
                 self.state.tick = next_tick;
                 return Err(self.stop(i, DivergenceCause::NonFinite));
             }
@@ -102,6 +102,7 @@ impl World {
         // Velocity Verlet's carried force was scaled to the old mass: evaluate it afresh.
         if burnt {
             self.carry_valid = false;
+            self.scratch.due.clear();
         }
     }
 

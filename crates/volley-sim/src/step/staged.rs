@@ -242,6 +242,7 @@ fn step_context<'c>(
         rest_speed: gravity * h,
         levels: contacts.has_levels(),
         fresh: &[],
+        horizon: None,
     }
 }
 

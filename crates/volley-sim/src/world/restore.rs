@@ -114,6 +114,7 @@ impl World {
         self.scratch.events.clear();
         self.halt = super::Halt::Running;
         self.scratch.fresh.clear();
+        self.scratch.due.clear();
         Ok(())
     }
 }

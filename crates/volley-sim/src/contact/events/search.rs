@@ -349,6 +349,11 @@ impl<S: Scheme> Crossing for Search<'_, S> {
     fn bracketed(&mut self, a: &PathPoint, b: &PathPoint) -> bool {
         self.judged(a, b).0.monotone
     }
+
+    /// Four ulps of the sim time the event reports (`t0 + tau`): finer is not written.
+    fn resolution_time(&self) -> f64 {
+        4.0 * f64::EPSILON * self.t0.abs()
+    }
 }
 
 /// A sign change found, before the direction filter and the graze merge.
