@@ -335,20 +335,9 @@ mod tests {
     /// integrator: every event is found where the full search finds it.
     #[test]
     fn horizons_change_no_event_and_no_hash() {
-        for integrator in [
-            "ExplicitEuler",
-            "SemiImplicitEuler",
-            "VelocityVerlet",
-            "Midpoint",
-            "Rk4",
-            "ImplicitEuler",
-            "Exact",
-            "ForestRuth",
-            "Dopri5",
-            "ImplicitMidpoint",
-        ] {
+        for integrator in crate::Integrator::ALL {
             let scene = format!(
-                "Scene(dt: 0.016666667, integrator: {integrator}, forces: [Gravity((0.0, 0.0, -9.81))],
+                "Scene(dt: 0.016666667, integrator: {integrator:?}, forces: [Gravity((0.0, 0.0, -9.81))],
                    launcher: (position: (0.0, 0.0, 1.0), speed: 20.0, elevation_deg: 45.0,
                               azimuth_deg: 0.0, mass: 1.0, radius: 0.1),
                    volley: (count: 200, speed_spread: 2.0, angle_spread_deg: 5.0), seed: 6,
