@@ -281,6 +281,8 @@ struct Search<'a, S> {
     /// The segment's start, as sim time and as time since tick 0 (s).
     t0: f64,
     since: f64,
+    /// The segment, whose end is a tick boundary ([`on_boundary`]).
+    seg: &'a Segment,
     /// Pieces that came within rounding of zero without a sign change.
     touches: Vec<Touch>,
     /// Every value looked at: `(tau, sigma g)`.
@@ -329,18 +331,39 @@ impl<S: Scheme> Crossing for Search<'_, S> {
 
     fn possible(&mut self, a: &PathPoint, b: &PathPoint) -> bool {
         let (j, _) = self.judged(a, b);
+        // The segment's end is a tick boundary, which belongs to this segment when the
+        // function there is within the boundary's rounding ([`on_boundary`]) and to the next
+        // one otherwise: a touch there is this segment's, however the piece's bound reads.
+        let at_end = b.tau == self.seg.duration;
+        let end_is_ours = at_end && on_boundary(self.test, self.seg, b, b.value);
         if j.lo > 0.0 {
+            if end_is_ours {
+                self.touches.push(Touch {
+                    tau: b.tau,
+                    s: b.s,
+                    value: b.value,
+                });
+            }
             return false;
         }
         // It may reach zero, but not by more than rounding, and an end is within rounding of
         // it: a touch (the piece is not split further).
         if j.lo >= -2.0 * j.tol && a.value.min(b.value) <= 2.0 * j.tol {
-            let (tau, s, value) = if a.value <= b.value {
-                (a.tau, a.s, a.value)
-            } else {
-                (b.tau, b.s, b.value)
-            };
-            self.touches.push(Touch { tau, s, value });
+            if a.value <= b.value {
+                self.touches.push(Touch {
+                    tau: a.tau,
+                    s: a.s,
+                    value: a.value,
+                });
+            } else if !at_end || end_is_ours {
+                self.touches.push(Touch {
+                    tau: b.tau,
+                    s: b.s,
+                    value: b.value,
+                });
+            }
+            // A touch nearest a boundary farther from zero than its rounding is the next
+            // segment's, which starts there and reports it.
             return false;
         }
         true
@@ -412,8 +435,11 @@ pub(crate) fn on_segment<S: Scheme>(
                 }
                 _ => watch.test.judge(&a, &b, (ga, gb), &k),
             };
-            if j.lo > 0.0 || j.hi < 0.0 || (j.lo >= -j.tol && j.hi <= j.tol) {
-                // Clear of zero; or riding along it, within rounding, where nothing crosses.
+            let riding = j.lo >= -j.tol && j.hi <= j.tol;
+            let clear = j.lo > 0.0 || j.hi < 0.0;
+            if riding || (clear && !on_boundary(&watch.test, seg, &b, gb)) {
+                // Riding along zero, within rounding, where nothing crosses; or clear of it,
+                // up to an end on it that is this segment's to report.
                 continue;
             }
         }
@@ -479,6 +505,7 @@ fn crossings<S: Scheme>(
             w: seg.body.w,
             t0: seg.t0,
             since: seg.since,
+            seg,
             touches: Vec::new(),
             seen: Vec::new(),
         };
@@ -590,8 +617,7 @@ fn crossings<S: Scheme>(
         s: seg.start,
         value: ga,
     };
-    let on_zero = ga.abs() <= 2.0 * rounding_of(test, seg, &start);
-    merge_touches(found, test, seg, on_zero)
+    merge_touches(found, test, seg, on_boundary(test, seg, &start, ga))
 }
 
 /// One report per touch of zero. A path within rounding of zero over a stretch (a tangent, a
@@ -643,7 +669,7 @@ fn merge_touches(
                 ..group[group.len() / 2]
             }
         };
-        if let Test::Linear { n, .. } = test {
+        if let Test::Linear { n, d } = test {
             // A plane: whether the path turns back within rounding decides, whatever the
             // samples' signs said (a root on a step's end is sampled on both sides; a tangent
             // may be sampled on one).
@@ -662,7 +688,19 @@ fn merge_touches(
                         value: 0.0,
                     },
                 );
-            if turns_back(*n, &nearest, seg, tol) {
+            // Sign changes both ways closer together than the window are a path that passed
+            // the plane by no more than rounding and came back: a graze, kept where the path
+            // is tangent, unless the group runs into the segment's end, where the way it goes
+            // on is the next segment's.
+            let both_ways = crossings.len() >= 2 && crossings.len() % 2 == 0;
+            let before_end = group[group.len() - 1].tau + window < seg.duration;
+            if both_ways && before_end {
+                report = Found {
+                    graze: true,
+                    direction: group[0].direction,
+                    ..nearest
+                };
+            } else if turns_back((*n, *d), &nearest, seg, tol) {
                 report = Found {
                     graze: true,
                     direction: group[0].direction,
@@ -713,10 +751,15 @@ fn touch_window(test: &Test, seg: &Segment) -> f64 {
     }
 }
 
-/// Whether a plane's function, at the report `f`, turns back within `tol` of zero: at the
-/// segment's mean acceleration along the normal `a`, a rate `r` against it goes on for `r^2 /
-/// 2|a|` before turning. A path that would not leave rounding before turning is a tangent.
-fn turns_back(n: DVec3, f: &Found, seg: &Segment, tol: f64) -> bool {
+/// Whether a plane's function, at the report `f`, turns back within `tol` of zero. At the
+/// segment's mean acceleration along the normal `a`, the path through `f` (value `g`, rate `r`)
+/// is the parabola that goes on for `r^2 / 2|a|` before turning, to the extreme value `g - r^2
+/// / 2a`. It is a tangent when either is within rounding: a path that turns within rounding of
+/// a sample that is itself on the zero, or one whose extreme is, wherever on it the sample
+/// fell (a sample 1.7e-7 s before a tangent, 2e-13 m below the plane, has 2e-13 m of rise
+/// left: the first reading alone would call that a crossing; a sample whose value is rounding
+/// noise has the second's extreme off by that noise).
+fn turns_back((n, d): (DVec3, f64), f: &Found, seg: &Segment, tol: f64) -> bool {
     let inv = seg.body.w.inv;
     let r = n.dot(f.s.mv * inv);
     let a = n.dot((seg.end.mv - seg.start.mv) * inv) / seg.duration;
@@ -725,7 +768,18 @@ fn turns_back(n: DVec3, f: &Found, seg: &Segment, tol: f64) -> bool {
     }
     // Either side of the turn: a sample just past it moves away from the plane, but the path
     // it is on turned within `r^2 / 2|a|` of it all the same.
-    r * r <= 2.0 * a.abs() * tol
+    let g = n.dot(f.s.p) - d;
+    r * r <= 2.0 * a.abs() * tol || (a != 0.0 && (g - r * r / (2.0 * a)).abs() <= tol)
+}
+
+/// Whether a tick boundary, the point `p` with the function's value `g`, is on the zero: the
+/// one rule both segments that meet there apply to the same bits. A segment ending on the zero
+/// reports the touch (or the crossing) there, whatever its pieces' bounds read; the segment
+/// starting on it drops its first group of sign changes as that touch's other side. So a root
+/// on a boundary, or a tangent there, is reported once, by the earlier segment; a value just
+/// outside is the later segment's, which reports it at its start.
+fn on_boundary(test: &Test, seg: &Segment, p: &PathPoint, g: f64) -> bool {
+    g.abs() <= 2.0 * rounding_of(test, seg, p)
 }
 
 /// Rounding of a function's value near the point `p`.

@@ -48,8 +48,14 @@ fn check(category: Category) {
         total.problems.len(),
         total.problems.join("\n")
     );
-    // Every case looked at something: the references are not all empty.
-    assert!(total.expected >= suite.len() / 2, "{total:?}");
+    // Every case looked at something: the references are not all empty. Within rounding, a
+    // touch is required only of the levels 3 or 4 ulps below the apex, 2 draws in 9 (the rest
+    // may be touched or missed by the exact path: optional).
+    let least = match category {
+        Category::GrazeRounding => suite.len() / 6,
+        _ => suite.len() / 2,
+    };
+    assert!(total.expected >= least, "{total:?}");
 }
 
 #[test]
@@ -74,24 +80,17 @@ fn double_crossings_inside_one_tick() {
     check(Category::Double);
 }
 
-// Open (issue 39): grazes at or near a tick boundary are reported up to 7.5e-7 s off the tangent
-// (cases 310, 405, 406). Run with `-- --ignored` to see them; not weakened.
 #[test]
-#[ignore = "open: grazes near a tick boundary are up to 7.5e-7 s off (cases 405, 406)"]
 fn tangent_grazes_exact() {
     check(Category::GrazeExact);
 }
 
 #[test]
-#[ignore = "open: a graze near a tick boundary is 1.7e-7 s off (case 310)"]
 fn tangent_grazes_within_rounding() {
     check(Category::GrazeRounding);
 }
 
-// Open (issue 39): Forest-Ruth's apex exactly on a tick boundary (case 605, t = 9.75 s) is
-// reported twice, as a graze and as a crossing.
 #[test]
-#[ignore = "open: an apex exactly on a tick boundary is reported twice (case 605)"]
 fn roots_exactly_on_a_tick_boundary() {
     check(Category::Boundary);
 }
