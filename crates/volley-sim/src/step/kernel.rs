@@ -6,7 +6,7 @@ use std::sync::atomic::Ordering::Relaxed;
 
 use glam::DVec3;
 
-use crate::contact::events::horizon::{Horizon, quiet_steps};
+use crate::contact::events::horizon::{DUE_BLOCK, Horizon, quiet_steps};
 use crate::contact::{self, Detection, Event, Particle, StepContext};
 use crate::integrate::{BodyState, Dense, Scheme, SchemeVisitor, visit_with};
 #[cfg(target_arch = "x86_64")]
@@ -34,6 +34,7 @@ impl World {
                 step: (tick - 1) * u64::from(self.params.substeps) + u64::from(k),
                 field,
                 due: self.scratch.due.column(),
+                blocks: self.scratch.due.blocks(),
                 surfaces: self.params.contacts.has_surfaces(),
             })
         } else {
@@ -414,7 +415,7 @@ pub(super) fn run_chunk<
                     let set = &ctx.contacts.events;
                     hz.step + 1 + quiet_steps(set, body.id, &s1, w.inv, a, h)
                 };
-                due[i].store(next, Relaxed);
+                hz.set_due(l.offset + i, next);
             }
         } else if CONTACTS && contact::needs_resolution::<LEVELS>(ctx, l.radius[i], w.inv, &s0, &s1)
         {
@@ -460,10 +461,6 @@ pub(super) fn run_chunk<
     }
 }
 
-/// Bodies per block of the due scan in [`run_events_apart`]: a block none of whose bodies is
-/// due is passed over in one vector compare.
-const DUE_BLOCK: usize = 8;
-
 /// A chunk of a world with declared events, horizons and nothing to hit: the bodies step as in
 /// a world without events (the vectorised loop), then the search runs on the few whose
 /// horizon ends, from the start states saved before the step. The same searches on the same
@@ -480,34 +477,41 @@ fn run_events_apart<S: Scheme, const STREAMING: bool>(
     let Some(hz) = ctx.horizon else {
         unreachable!("called only with horizons")
     };
-    // The due bodies, with their start states and carried forces.
+    // The due bodies, with their start states and carried forces. A block of the summary
+    // that lies wholly in this chunk and whose bound is later than this step is passed over
+    // with one load, and its bound is set again here once its bodies are searched; the bodies
+    // of a block shared with the next chunk are looked at one by one.
     let due = &hz.due[l.offset..l.offset + n];
     let mut starts: Vec<(usize, BodyState, DVec3)> = Vec::new();
-    let mut block = 0;
-    while block < n {
-        let end = (block + DUE_BLOCK).min(n);
-        if due[block..end]
-            .iter()
-            .fold(false, |any, d| any | (d.load(Relaxed) <= hz.step))
-        {
-            // `i` indexes the state's eight columns, not only `due`.
-            #[allow(clippy::needless_range_loop)]
-            for i in block..end {
-                if due[i].load(Relaxed) <= hz.step {
-                    let s0 = BodyState {
-                        p: DVec3::new(l.px[i], l.py[i], l.pz[i]),
-                        mv: DVec3::new(l.mx[i], l.my[i], l.mz[i]),
-                    };
-                    let c0 = if S::CARRIES_FORCE {
-                        DVec3::new(l.cx[i], l.cy[i], l.cz[i])
-                    } else {
-                        DVec3::ZERO
-                    };
-                    starts.push((i, s0, c0));
-                }
+    let mut rebound: Vec<usize> = Vec::new();
+    let mut i = 0;
+    while i < n {
+        let global = l.offset + i;
+        let k = global / DUE_BLOCK;
+        let block_end = ((k + 1) * DUE_BLOCK - l.offset).min(n);
+        let whole = global % DUE_BLOCK == 0 && (k + 1) * DUE_BLOCK <= l.offset + n;
+        if whole {
+            if hz.blocks[k].load(Relaxed) > hz.step {
+                i = block_end;
+                continue;
+            }
+            rebound.push(k);
+        }
+        for j in i..block_end {
+            if due[j].load(Relaxed) <= hz.step {
+                let s0 = BodyState {
+                    p: DVec3::new(l.px[j], l.py[j], l.pz[j]),
+                    mv: DVec3::new(l.mx[j], l.my[j], l.mz[j]),
+                };
+                let c0 = if S::CARRIES_FORCE {
+                    DVec3::new(l.cx[j], l.cy[j], l.cz[j])
+                } else {
+                    DVec3::ZERO
+                };
+                starts.push((j, s0, c0));
             }
         }
-        block = end;
+        i = block_end;
     }
     let mut out = run_chunk::<S, false, false, false, STREAMING>(scheme, l, ctx, events);
     let mut event_evals = 0u64;
@@ -540,7 +544,13 @@ fn run_events_apart<S: Scheme, const STREAMING: bool>(
         );
         let a = hz.field.gravity + hz.field.force * w.inv;
         let quiet = quiet_steps(&ctx.contacts.events, body.id, &s1, w.inv, a, ctx.h);
-        due[i].store(hz.step + 1 + quiet, Relaxed);
+        hz.set_due(l.offset + i, hz.step + 1 + quiet);
+    }
+    for k in rebound {
+        let least = hz.due[k * DUE_BLOCK..(k + 1) * DUE_BLOCK]
+            .iter()
+            .fold(u64::MAX, |m, d| m.min(d.load(Relaxed)));
+        hz.blocks[k].store(least, Relaxed);
     }
     out.event_evals += event_evals;
     out

@@ -45,64 +45,112 @@ pub(crate) struct Horizon<'a> {
     pub field: &'a crate::forces::ConstantField,
     /// The column of step numbers from which each body is searched again ([`Due`]).
     pub due: &'a [AtomicU64],
+    /// Per block of [`DUE_BLOCK`] bodies, at most the least of the block's entries ([`Due`]).
+    pub blocks: &'a [AtomicU64],
     /// Whether the scene has something to hit ([`crate::contact::Contacts::has_surfaces`]).
     pub surfaces: bool,
 }
+
+/// Bodies per block of [`Due`]'s summary.
+pub(crate) const DUE_BLOCK: usize = 64;
 
 /// Per body (by storage index), the step number from which its declared events are searched
 /// again. Each body's entry is read and written only by the thread stepping that body, so the
 /// atomics (relaxed: plain loads and stores) only let the chunks share one column through the
 /// step's context, which every chunk borrows, instead of splitting it with the chunks.
+///
+/// Beside it, per block of [`DUE_BLOCK`] bodies (storage indices `k * DUE_BLOCK ..`), a lower
+/// bound of the block's entries: a step before it passes the whole block over with one load.
+/// It is a cache of the column and only ever too low: whoever lowers an entry lowers its
+/// block's bound with it (`fetch_min`, which two chunks sharing a block may both do, in either
+/// order, to the same result); only the thread whose chunk holds the whole block sets it to the
+/// block's least entry. So which bodies are searched never depends on it.
 #[derive(Debug, Default)]
-pub(crate) struct Due(Vec<AtomicU64>);
+pub(crate) struct Due {
+    column: Vec<AtomicU64>,
+    blocks: Vec<AtomicU64>,
+}
+
+fn copy(v: &[AtomicU64]) -> Vec<AtomicU64> {
+    v.iter().map(|d| AtomicU64::new(d.load(Relaxed))).collect()
+}
 
 impl Clone for Due {
     fn clone(&self) -> Due {
-        Due(self
-            .0
-            .iter()
-            .map(|d| AtomicU64::new(d.load(Relaxed)))
-            .collect())
+        Due {
+            column: copy(&self.column),
+            blocks: copy(&self.blocks),
+        }
     }
 }
 
 impl Due {
     #[inline]
     pub(crate) fn len(&self) -> usize {
-        self.0.len()
+        self.column.len()
     }
 
     /// Every horizon void.
     pub(crate) fn clear(&mut self) {
-        self.0.clear();
+        self.column.clear();
+        self.blocks.clear();
     }
 
     /// `n` bodies, every one due at once.
     pub(crate) fn reset(&mut self, n: usize) {
-        self.0.clear();
-        self.0.resize_with(n, || AtomicU64::new(0));
+        self.column.clear();
+        self.column.resize_with(n, || AtomicU64::new(0));
+        self.blocks.clear();
+        self.blocks
+            .resize_with(n.div_ceil(DUE_BLOCK), || AtomicU64::new(0));
     }
 
     /// A body added at the end, due at once.
     pub(crate) fn push(&mut self) {
-        self.0.push(AtomicU64::new(0));
+        self.column.push(AtomicU64::new(0));
+        let k = (self.column.len() - 1) / DUE_BLOCK;
+        if k == self.blocks.len() {
+            self.blocks.push(AtomicU64::new(0));
+        } else {
+            self.blocks[k].store(0, Relaxed);
+        }
     }
 
-    /// Body `i` removed, the others kept in order.
+    /// Body `i` removed, the others kept in order: the blocks from `i`'s on hold other bodies
+    /// now, and are due at once.
     pub(crate) fn remove(&mut self, i: usize) {
-        self.0.remove(i);
+        self.column.remove(i);
+        self.blocks.truncate(self.column.len().div_ceil(DUE_BLOCK));
+        for b in self.blocks.iter().skip(i / DUE_BLOCK) {
+            b.store(0, Relaxed);
+        }
     }
 
     /// The column, for the step.
     #[inline]
     pub(crate) fn column(&self) -> &[AtomicU64] {
-        &self.0
+        &self.column
+    }
+
+    /// The blocks' bounds, for the step.
+    #[inline]
+    pub(crate) fn blocks(&self) -> &[AtomicU64] {
+        &self.blocks
     }
 
     /// Body `i`'s entry.
     #[cfg(test)]
     pub(crate) fn get(&self, i: usize) -> u64 {
-        self.0[i].load(Relaxed)
+        self.column[i].load(Relaxed)
+    }
+}
+
+impl Horizon<'_> {
+    /// Sets body `i`'s (storage index) entry to `next`, lowering its block's bound to it.
+    #[inline]
+    pub(crate) fn set_due(&self, i: usize, next: u64) {
+        self.due[i].store(next, Relaxed);
+        self.blocks[i / DUE_BLOCK].fetch_min(next, Relaxed);
     }
 }
 
@@ -355,6 +403,59 @@ mod tests {
 
     /// Bounces on a ground, a constant force, substeps, an event on one body, a plane, and
     /// bodies fired, despawned and a force switched off mid-run.
+    /// With nothing to hit, the bodies step apart from the search ([`DUE_BLOCK`]'s summary
+    /// passes quiet blocks over): spawns, despawns (the blocks after it due at once) and
+    /// commands, against the full search.
+    #[test]
+    fn horizon_blocks_follow_spawns_and_despawns() {
+        use crate::{BodyId, Command};
+        let scene =
+            "Scene(dt: 0.02, integrator: VelocityVerlet, forces: [Gravity((0.0, 0.0, -9.81))],
+               launcher: (position: (0.0, 0.0, 1.0), speed: 25.0, elevation_deg: 50.0,
+                          azimuth_deg: 0.0, mass: 1.0, radius: 0.1),
+               volley: (count: 150, speed_spread: 3.0, angle_spread_deg: 8.0), seed: 11,
+               events: [(when: Altitude(12.0)), (when: Apex), (when: Downrange(30.0))])";
+        let commands = [
+            (10, Command::Despawn(BodyId(5))),
+            (20, Command::Fire),
+            (21, Command::Despawn(BodyId(100))),
+            (30, Command::Fire),
+            (55, Command::Despawn(BodyId(0))),
+        ];
+        let skipped = same_with_and_without(scene, 200, &commands);
+        assert!(skipped > 150 * 200 / 2, "skipped only {skipped}");
+    }
+
+    /// Two threads, whose chunks meet inside a block of the summary (16500 is not a multiple of
+    /// 64): the shared block's bodies are looked at one by one, and the events and bits are
+    /// the full search's.
+    #[test]
+    fn horizon_blocks_shared_by_two_chunks() {
+        let scene =
+            "Scene(dt: 0.05, integrator: SemiImplicitEuler, forces: [Gravity((0.0, 0.0, -9.81))],
+               launcher: (position: (0.0, 0.0, 1.0), speed: 20.0, elevation_deg: 45.0,
+                          azimuth_deg: 0.0, mass: 1.0, radius: 0.1),
+               volley: (count: 33000, speed_spread: 2.0, angle_spread_deg: 5.0), seed: 6,
+               events: [(when: Altitude(5.0)), (when: Apex)])";
+        let scene = crate::parse_scene(scene, "test.ron", "test").expect("the test scene parses");
+        let mut on = crate::World::new(&scene);
+        let mut off = crate::World::new(&scene);
+        on.set_threads(2);
+        off.set_threads(2);
+        off.scratch.horizons_off = true;
+        // Two chunks: at least two threads and twice the smallest chunk.
+        assert!(33000 >= 2 * crate::step::PARALLEL_MIN_CHUNK);
+        let mut reported = 0;
+        for tick in 0..60 {
+            let (a, b) = (on.step(), off.step());
+            assert_eq!(a, b, "tick {tick}");
+            assert_eq!(on.events(), off.events(), "tick {tick}");
+            reported += on.events().len();
+        }
+        assert_eq!(crate::state_hash(&on), crate::state_hash(&off));
+        assert!(reported >= 33000, "only {reported} events");
+    }
+
     #[test]
     fn horizons_follow_bounces_spawns_despawns_and_commands() {
         use crate::{BodyId, Command, ForceKind};

@@ -284,9 +284,9 @@ struct Search<'a, S> {
     /// The segment, whose end is a tick boundary ([`on_boundary`]).
     seg: &'a Segment,
     /// Pieces that came within rounding of zero without a sign change.
-    touches: Vec<Touch>,
+    touches: &'a mut Vec<Touch>,
     /// Every value looked at: `(tau, sigma g)`.
-    seen: Vec<(f64, f64)>,
+    seen: &'a mut Vec<(f64, f64)>,
 }
 
 impl<S: Scheme> Search<'_, S> {
@@ -496,8 +496,12 @@ fn crossings<S: Scheme>(
     let mut sigma = if ga < 0.0 { -1.0 } else { 1.0 };
     // The crossing the round before found (its index in `found`) and its rounding.
     let mut previous: Option<(usize, f64)> = None;
+    // One pair of buffers for every round's search (most segments searched have one or two).
+    let (mut touches_buf, mut seen_buf) = (Vec::new(), Vec::new());
     for round in 0..MAX_CROSSINGS {
         let on_zero = start.value == 0.0;
+        touches_buf.clear();
+        seen_buf.clear();
         let mut search = Search {
             scheme,
             test,
@@ -506,8 +510,8 @@ fn crossings<S: Scheme>(
             t0: seg.t0,
             since: seg.since,
             seg,
-            touches: Vec::new(),
-            seen: Vec::new(),
+            touches: &mut touches_buf,
+            seen: &mut seen_buf,
         };
         let a = PathPoint {
             value: sigma * start.value,
@@ -530,16 +534,12 @@ fn crossings<S: Scheme>(
         };
         let until = root.map_or(f64::INFINITY, |(lo, _)| lo.tau);
         // Touches before the root: each run of them one graze, at its value nearest zero.
-        let mut touches: Vec<Touch> = search
-            .touches
-            .iter()
-            .copied()
-            .filter(|t| t.tau < until)
-            .collect();
+        let touches = &mut *search.touches;
+        touches.retain(|t| t.tau < until);
         touches.sort_by(|x, y| x.tau.total_cmp(&y.tau));
         let touched = !touches.is_empty();
         let mut cluster: Option<Touch> = None;
-        for t in touches {
+        for &t in touches.iter() {
             cluster = match cluster {
                 Some(c) if t.tau - c.tau <= 1e-6 * seg.duration => {
                     Some(if t.value < c.value { t } else { c })
@@ -628,7 +628,7 @@ fn crossings<S: Scheme>(
 /// on zero continues the touch the segment before reported: its first group is dropped, but
 /// for a fresh body's report at its spawn.
 fn merge_touches(
-    found: Vec<Found>,
+    mut found: Vec<Found>,
     test: &Test,
     seg: &Segment,
     starts_on_zero: bool,
@@ -638,7 +638,9 @@ fn merge_touches(
     }
     let window = touch_window(test, seg);
     let inv = seg.body.w.inv;
-    let mut out: Vec<Found> = Vec::with_capacity(found.len());
+    // The reports go back into `found`, each at or before its group's first entry, which
+    // is read before it is written.
+    let mut out = 0;
     let mut i = 0;
     while i < found.len() {
         let mut j = i + 1;
@@ -653,15 +655,19 @@ fn merge_touches(
             if seg.fresh
                 && let Some(spawn) = group.iter().find(|f| f.tau == 0.0 && !f.graze)
             {
-                out.push(*spawn);
+                found[out] = *spawn;
+                out += 1;
             }
             continue;
         }
         // An odd number of sign changes is a crossing, at the first, the way it went; an even
         // number (or only touches) a graze, where the path is most nearly tangent.
-        let crossings: Vec<&Found> = group.iter().filter(|f| !f.graze).collect();
-        let mut report = if crossings.len() % 2 == 1 {
-            *crossings[0]
+        let changes = group.iter().filter(|f| !f.graze).count();
+        let first_change = group.iter().find(|f| !f.graze);
+        let mut report = if let Some(first) = first_change
+            && changes % 2 == 1
+        {
+            *first
         } else {
             Found {
                 graze: true,
@@ -692,7 +698,7 @@ fn merge_touches(
             // the plane by no more than rounding and came back: a graze, kept where the path
             // is tangent, unless the group runs into the segment's end, where the way it goes
             // on is the next segment's.
-            let both_ways = crossings.len() >= 2 && crossings.len() % 2 == 0;
+            let both_ways = changes >= 2 && changes % 2 == 0;
             let before_end = group[group.len() - 1].tau + window < seg.duration;
             if both_ways && before_end {
                 report = Found {
@@ -719,9 +725,11 @@ fn merge_touches(
                 };
             }
         }
-        out.push(report);
+        found[out] = report;
+        out += 1;
     }
-    out
+    found.truncate(out);
+    found
 }
 
 /// How close together (s) sign changes must be to be one touch: a millionth of the segment,
