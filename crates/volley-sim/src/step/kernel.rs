@@ -489,7 +489,7 @@ fn run_events_apart<S: Scheme, const STREAMING: bool>(
         let global = l.offset + i;
         let k = global / DUE_BLOCK;
         let block_end = ((k + 1) * DUE_BLOCK - l.offset).min(n);
-        let whole = global % DUE_BLOCK == 0 && (k + 1) * DUE_BLOCK <= l.offset + n;
+        let whole = global.is_multiple_of(DUE_BLOCK) && (k + 1) * DUE_BLOCK <= l.offset + n;
         if whole {
             if hz.blocks[k].load(Relaxed) > hz.step {
                 i = block_end;
@@ -497,6 +497,8 @@ fn run_events_apart<S: Scheme, const STREAMING: bool>(
             }
             rebound.push(k);
         }
+        // `j` indexes the state's eight columns, not only `due`.
+        #[allow(clippy::needless_range_loop)]
         for j in i..block_end {
             if due[j].load(Relaxed) <= hz.step {
                 let s0 = BodyState {

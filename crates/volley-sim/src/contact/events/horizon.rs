@@ -444,7 +444,7 @@ mod tests {
         off.set_threads(2);
         off.scratch.horizons_off = true;
         // Two chunks: at least two threads and twice the smallest chunk.
-        assert!(33000 >= 2 * crate::step::PARALLEL_MIN_CHUNK);
+        const { assert!(33000 >= 2 * crate::step::PARALLEL_MIN_CHUNK) };
         let mut reported = 0;
         for tick in 0..60 {
             let (a, b) = (on.step(), off.step());

@@ -700,13 +700,7 @@ fn merge_touches(
             // on is the next segment's.
             let both_ways = changes >= 2 && changes % 2 == 0;
             let before_end = group[group.len() - 1].tau + window < seg.duration;
-            if both_ways && before_end {
-                report = Found {
-                    graze: true,
-                    direction: group[0].direction,
-                    ..nearest
-                };
-            } else if turns_back((*n, *d), &nearest, seg, tol) {
+            if (both_ways && before_end) || turns_back((*n, *d), &nearest, seg, tol) {
                 report = Found {
                     graze: true,
                     direction: group[0].direction,
