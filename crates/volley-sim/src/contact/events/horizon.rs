@@ -384,13 +384,11 @@ mod tests {
     #[test]
     fn horizons_change_no_event_and_no_hash() {
         for integrator in crate::Integrator::ALL {
-            let scene = format!(
-                "Scene(dt: 0.016666667, integrator: {integrator:?}, forces: [Gravity((0.0, 0.0, -9.81))],
-                   launcher: (position: (0.0, 0.0, 1.0), speed: 20.0, elevation_deg: 45.0,
-                              azimuth_deg: 0.0, mass: 1.0, radius: 0.1),
-                   volley: (count: 200, speed_spread: 2.0, angle_spread_deg: 5.0), seed: 6,
-                   events: [(when: Altitude(5.0)), (when: Apex), (when: Downrange(20.0)),
-                            (when: Speed(15.0))])"
+            let scene = launched_volley(
+                &format!("dt: 0.016666667, integrator: {integrator:?}"),
+                "speed: 20.0, elevation_deg: 45.0",
+                "count: 200, speed_spread: 2.0, angle_spread_deg: 5.0), seed: 6",
+                "(when: Altitude(5.0)), (when: Apex), (when: Downrange(20.0)), (when: Speed(15.0))",
             );
             let skipped = same_with_and_without(&scene, 240, &[]);
             // The bench's volley is quiet most of its flight: the horizons skip most searches.
@@ -401,20 +399,29 @@ mod tests {
         }
     }
 
-    /// Bounces on a ground, a constant force, substeps, an event on one body, a plane, and
-    /// bodies fired, despawned and a force switched off mid-run.
+    /// A volley under gravity from the launcher at (0, 0, 1): the scene's `head` (dt,
+    /// integrator), the launch, the volley's fields up to its seed, and the events.
+    fn launched_volley(head: &str, launch: &str, volley: &str, events: &str) -> String {
+        format!(
+            "Scene({head}, forces: [Gravity((0.0, 0.0, -9.81))],
+               launcher: (position: (0.0, 0.0, 1.0), {launch},
+                          azimuth_deg: 0.0, mass: 1.0, radius: 0.1),
+               volley: ({volley}, events: [{events}])"
+        )
+    }
+
     /// With nothing to hit, the bodies step apart from the search ([`DUE_BLOCK`]'s summary
     /// passes quiet blocks over): spawns, despawns (the blocks after it due at once) and
     /// commands, against the full search.
     #[test]
     fn horizon_blocks_follow_spawns_and_despawns() {
         use crate::{BodyId, Command};
-        let scene =
-            "Scene(dt: 0.02, integrator: VelocityVerlet, forces: [Gravity((0.0, 0.0, -9.81))],
-               launcher: (position: (0.0, 0.0, 1.0), speed: 25.0, elevation_deg: 50.0,
-                          azimuth_deg: 0.0, mass: 1.0, radius: 0.1),
-               volley: (count: 150, speed_spread: 3.0, angle_spread_deg: 8.0), seed: 11,
-               events: [(when: Altitude(12.0)), (when: Apex), (when: Downrange(30.0))])";
+        let scene = launched_volley(
+            "dt: 0.02, integrator: VelocityVerlet",
+            "speed: 25.0, elevation_deg: 50.0",
+            "count: 150, speed_spread: 3.0, angle_spread_deg: 8.0), seed: 11",
+            "(when: Altitude(12.0)), (when: Apex), (when: Downrange(30.0))",
+        );
         let commands = [
             (10, Command::Despawn(BodyId(5))),
             (20, Command::Fire),
@@ -422,7 +429,7 @@ mod tests {
             (30, Command::Fire),
             (55, Command::Despawn(BodyId(0))),
         ];
-        let skipped = same_with_and_without(scene, 200, &commands);
+        let skipped = same_with_and_without(&scene, 200, &commands);
         assert!(skipped > 150 * 200 / 2, "skipped only {skipped}");
     }
 
@@ -431,13 +438,13 @@ mod tests {
     /// the full search's.
     #[test]
     fn horizon_blocks_shared_by_two_chunks() {
-        let scene =
-            "Scene(dt: 0.05, integrator: SemiImplicitEuler, forces: [Gravity((0.0, 0.0, -9.81))],
-               launcher: (position: (0.0, 0.0, 1.0), speed: 20.0, elevation_deg: 45.0,
-                          azimuth_deg: 0.0, mass: 1.0, radius: 0.1),
-               volley: (count: 33000, speed_spread: 2.0, angle_spread_deg: 5.0), seed: 6,
-               events: [(when: Altitude(5.0)), (when: Apex)])";
-        let scene = crate::parse_scene(scene, "test.ron", "test").expect("the test scene parses");
+        let scene = launched_volley(
+            "dt: 0.05, integrator: SemiImplicitEuler",
+            "speed: 20.0, elevation_deg: 45.0",
+            "count: 33000, speed_spread: 2.0, angle_spread_deg: 5.0), seed: 6",
+            "(when: Altitude(5.0)), (when: Apex)",
+        );
+        let scene = crate::parse_scene(&scene, "test.ron", "test").expect("the test scene parses");
         let mut on = crate::World::new(&scene);
         let mut off = crate::World::new(&scene);
         on.set_threads(2);
@@ -456,6 +463,8 @@ mod tests {
         assert!(reported >= 33000, "only {reported} events");
     }
 
+    /// Bounces on a ground, a constant force, substeps, an event on one body, a plane, and
+    /// bodies fired, despawned and a force switched off mid-run.
     #[test]
     fn horizons_follow_bounces_spawns_despawns_and_commands() {
         use crate::{BodyId, Command, ForceKind};
