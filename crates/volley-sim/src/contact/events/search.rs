@@ -264,40 +264,30 @@ impl Test {
     }
 }
 
-/// A touch: a piece whose bound stays within rounding of zero, never sampled across it.
-#[derive(Clone, Copy, Debug)]
-struct Touch {
-    tau: f64,
-    s: BodyState,
-    value: f64,
-}
-
 /// One search for the first root of `sigma g` (sigma = 1: a fall through zero; -1: a rise).
 struct Search<'a, S> {
     scheme: &'a S,
     test: &'a Test,
     sigma: f64,
-    w: Mass,
-    /// The segment's start, as sim time and as time since tick 0 (s).
-    t0: f64,
-    since: f64,
-    /// The segment, whose end is a tick boundary ([`on_boundary`]).
+    /// The segment: its body, its start (as sim time and as time since tick 0), and its end, a
+    /// tick boundary ([`on_boundary`]).
     seg: &'a Segment,
-    /// Pieces that came within rounding of zero without a sign change.
-    touches: &'a mut Vec<Touch>,
+    /// Touches: pieces whose bound came within rounding of zero without a sign change, each at
+    /// its end nearest zero.
+    touches: &'a mut Vec<PathPoint>,
     /// Every value looked at: `(tau, sigma g)`.
     seen: &'a mut Vec<(f64, f64)>,
 }
 
 impl<S: Scheme> Search<'_, S> {
     fn judged(&self, a: &PathPoint, b: &PathPoint) -> (Judged, f64) {
-        let k = Bounds::of(self.scheme, self.w, self.t0, a, b);
+        let k = Bounds::of(self.scheme, self.seg.body.w, self.seg.t0, a, b);
         let (ga, gb) = (self.sigma * a.value, self.sigma * b.value);
         let j = match self.test {
             Test::Closest { c0, u } => {
                 // Positions relative to the point at each end's own time.
                 let rel = |p: &PathPoint| {
-                    let c = *c0 + (self.since + p.tau) * *u;
+                    let c = *c0 + (self.seg.since + p.tau) * *u;
                     PathPoint {
                         tau: p.tau,
                         s: BodyState {
@@ -324,7 +314,10 @@ impl<S: Scheme> Search<'_, S> {
 impl<S: Scheme> Crossing for Search<'_, S> {
     #[inline]
     fn value(&mut self, tau: f64, s: &BodyState) -> f64 {
-        let v = self.sigma * self.test.value(self.since + tau, s, self.w.inv);
+        let v = self.sigma
+            * self
+                .test
+                .value(self.seg.since + tau, s, self.seg.body.w.inv);
         self.seen.push((tau, v));
         v
     }
@@ -338,11 +331,7 @@ impl<S: Scheme> Crossing for Search<'_, S> {
         let end_is_ours = at_end && on_boundary(self.test, self.seg, b, b.value);
         if j.lo > 0.0 {
             if end_is_ours {
-                self.touches.push(Touch {
-                    tau: b.tau,
-                    s: b.s,
-                    value: b.value,
-                });
+                self.touches.push(*b);
             }
             return false;
         }
@@ -350,17 +339,9 @@ impl<S: Scheme> Crossing for Search<'_, S> {
         // it: a touch (the piece is not split further).
         if j.lo >= -2.0 * j.tol && a.value.min(b.value) <= 2.0 * j.tol {
             if a.value <= b.value {
-                self.touches.push(Touch {
-                    tau: a.tau,
-                    s: a.s,
-                    value: a.value,
-                });
+                self.touches.push(*a);
             } else if !at_end || end_is_ours {
-                self.touches.push(Touch {
-                    tau: b.tau,
-                    s: b.s,
-                    value: b.value,
-                });
+                self.touches.push(*b);
             }
             // A touch nearest a boundary farther from zero than its rounding is the next
             // segment's, which starts there and reports it.
@@ -375,7 +356,7 @@ impl<S: Scheme> Crossing for Search<'_, S> {
 
     /// Four ulps of the sim time the event reports (`t0 + tau`): finer is not written.
     fn resolution_time(&self) -> f64 {
-        4.0 * f64::EPSILON * self.t0.abs()
+        4.0 * f64::EPSILON * self.seg.t0.abs()
     }
 }
 
@@ -506,9 +487,6 @@ fn crossings<S: Scheme>(
             scheme,
             test,
             sigma,
-            w: seg.body.w,
-            t0: seg.t0,
-            since: seg.since,
             seg,
             touches: &mut touches_buf,
             seen: &mut seen_buf,
@@ -538,7 +516,7 @@ fn crossings<S: Scheme>(
         touches.retain(|t| t.tau < until);
         touches.sort_by(|x, y| x.tau.total_cmp(&y.tau));
         let touched = !touches.is_empty();
-        let mut cluster: Option<Touch> = None;
+        let mut cluster: Option<PathPoint> = None;
         for &t in touches.iter() {
             cluster = match cluster {
                 Some(c) if t.tau - c.tau <= 1e-6 * seg.duration => {
@@ -862,7 +840,7 @@ fn departure(
 }
 
 /// A run of touches, as one graze approached from the side `direction` says.
-fn graze(t: Touch, direction: EventDirection) -> Found {
+fn graze(t: PathPoint, direction: EventDirection) -> Found {
     Found {
         tau: t.tau,
         s: t.s,
