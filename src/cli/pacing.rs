@@ -225,7 +225,10 @@ fn sweep(args: &PacingArgs) -> Result<Sweep, Failure> {
         Subject::parse(n).ok_or_else(|| {
             fail(
                 EXIT_INPUT,
-                format!("--subjects: unknown `{n}`, expected orbit or shot"),
+                format!(
+                    "--subjects: unknown `{n}`, expected one of {}",
+                    Subject::ALL.map(Subject::name).join(", ")
+                ),
             )
         })
     })?;

@@ -188,7 +188,10 @@ fn a_body_without_a_closed_form_says_so_instead_of_showing_an_error() {
     play(&mut s, &model("60"), 30);
     let log = s.pacing();
     assert_eq!(log.note, Some(NoError::NoClosedForm));
-    assert!(log.frames().all(|f| f.errors == [None; 4]));
+    assert!(
+        log.frames()
+            .all(|f| f.errors == [None; volley_sim::DrawMode::COUNT])
+    );
     assert!(log.judder().iter().all(|m| m.exact.is_none()));
     s.set_pacing_body(100_000);
     s.frame(Duration::from_millis(16));
@@ -205,7 +208,10 @@ fn a_dropped_frame_has_no_error_and_no_judder_ghost() {
     let ghosts = s.pacing().judder().len();
     s.frame_shown(ms(16), Shown::Dropped);
     assert_eq!(s.pacing().note, Some(NoError::Dropped));
-    assert_eq!(s.pacing().frames().last().unwrap().errors, [None; 4]);
+    assert_eq!(
+        s.pacing().frames().last().unwrap().errors,
+        [None; volley_sim::DrawMode::COUNT]
+    );
     assert_eq!(s.pacing().judder().len(), ghosts);
 }
 

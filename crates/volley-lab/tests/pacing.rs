@@ -53,6 +53,62 @@ fn every_policy_computes_the_same_state_at_every_tick() {
     }
 }
 
+#[test]
+fn every_draw_mode_leaves_every_tick_as_it_was() {
+    // A draw reads the world and changes nothing a tick computes: the subjects with surfaces
+    // and commands and the bundled scenes with a ground and walls, drawn every frame in each
+    // mode (swept meets the surfaces), step to the same hashes as with no draw at all, and
+    // leave the world's generator where it was.
+    use volley_sim::{Draw, bundled_scene};
+    let timing = DisplayModel::fixed(144.0).timing("144", 4.0);
+    let mut scenes: Vec<(String, volley_sim::Scene, Vec<volley_sim::Stamped>)> = [
+        Subject::Bounce,
+        Subject::BounceHalf,
+        Subject::Wall,
+        Subject::Command,
+    ]
+    .into_iter()
+    .map(|s| {
+        let scene = s.scene(60.0, Integrator::VelocityVerlet);
+        (s.name().to_string(), scene, s.commands(60.0, 4.0))
+    })
+    .collect();
+    for name in ["bounce", "volley", "hard/tunnelling"] {
+        scenes.push((name.to_string(), bundled_scene(name).unwrap(), Vec::new()));
+    }
+    for (name, scene, commands) in &scenes {
+        let run = |mode: Option<DrawMode>| {
+            let mut sim = SimLoop::new(World::new(scene));
+            sim.schedule(commands.clone());
+            let mut draw = Draw::new(&sim.world, mode.unwrap_or(DrawMode::Current));
+            let mut hashes = Hashes(Vec::new());
+            let mut drawn = 0usize;
+            for delta in timing.deltas(Duration::ZERO) {
+                let ticks = match mode {
+                    Some(_) => sim.frame(delta, &mut (&mut hashes, &mut draw)).unwrap(),
+                    None => sim.frame(delta, &mut hashes).unwrap(),
+                };
+                if mode.is_some() {
+                    draw.frame(delta);
+                    draw.positions(&sim.world, ticks.alpha, |_, p| {
+                        assert!(p.is_finite());
+                        drawn += 1;
+                    });
+                }
+            }
+            (hashes.0, sim.world.rng(), drawn)
+        };
+        let (plain, rng, _) = run(None);
+        assert!(plain.len() > 200, "{name}");
+        for mode in DrawMode::ALL {
+            let (hashes, after, drawn) = run(Some(mode));
+            assert!(drawn > 0, "{name}");
+            assert_eq!(hashes, plain, "{name}: {}", mode.name());
+            assert_eq!(after, rng, "{name}: {}", mode.name());
+        }
+    }
+}
+
 fn config(policy: LoopPolicy, phase: f64) -> RunConfig {
     RunConfig {
         subject: Subject::Orbit,
@@ -153,15 +209,24 @@ fn a_hitch_is_recovered_as_the_clock_documents() {
 
 #[test]
 fn pacing_default_is_the_sweeps_choice() {
-    // Volley's defaults are what the loop lab's ranking puts first (docs/pacing/report.md): the
-    // bundled display models, every policy, a 60 Hz orbit under velocity Verlet, both phases.
-    use volley_lab::pacing::{DEFAULT_DRAW, DEFAULT_POLICY, Sweep, choose, sweep};
-    let mut lab = Sweep::bundled(Sweep::bundled_displays(sweep::SECONDS));
+    // Volley's defaults are what the loop lab's ranking over every subject puts first
+    // (docs/pacing/report.md): the bundled display models and the shipped PresentMon capture,
+    // every policy, every subject at 60 Hz under velocity Verlet, both phases.
+    use volley_lab::pacing::{
+        DEFAULT_DRAW, DEFAULT_POLICY, Sweep, SweepDisplay, choose_all, read_capture, sweep,
+    };
+    let path = "assets/captures/presentmon_test_case_4.csv";
+    let text =
+        std::fs::read_to_string(format!("{}/../../{path}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let capture = read_capture(&text, path, None).unwrap();
+    let mut displays = Sweep::bundled_displays(sweep::SECONDS);
+    displays.push(SweepDisplay::capture(&capture.name.clone(), capture));
+    let mut lab = Sweep::bundled(displays);
     lab.rates = vec![60.0];
     lab.integrators = vec![Integrator::VelocityVerlet];
-    lab.subjects = vec![Subject::Orbit];
+    assert_eq!(lab.subjects, Subject::ALL.to_vec());
     let rows = lab.run().unwrap();
-    let ranking = choose(&rows, 60.0, Subject::Orbit, Integrator::VelocityVerlet);
+    let ranking = choose_all(&rows, 60.0, Integrator::VelocityVerlet);
     let best = &ranking[0];
     assert!(best.admissible, "{ranking:?}");
     assert_eq!(
@@ -171,25 +236,76 @@ fn pacing_default_is_the_sweeps_choice() {
         best.policy,
         best.mode.name()
     );
-    // What the default's doc claims: predict beats interpolation's p99 display error on every
-    // bundled model, at the same latency.
-    let cells = sweep::cells(&rows, Subject::Orbit, Integrator::VelocityVerlet);
-    for (name, _) in DisplayModel::bundled() {
-        let p99 = |mode| {
-            cells
-                .iter()
-                .find(|c| c.row.display == name && c.row.policy == "accumulator" && c.mode == mode)
-                .unwrap()
-                .metrics()
-                .error
-                .p99
-        };
-        assert!(
-            p99(DEFAULT_DRAW) < p99(DrawMode::Interpolate),
-            "{name}: {} vs {}",
-            p99(DEFAULT_DRAW),
-            p99(DrawMode::Interpolate)
-        );
+    // What the defaults' docs and issue 40's goals claim, display by display (models and the
+    // capture), with the plain accumulator; each figure the worse of the phases.
+    use volley_lab::pacing::ModeMetrics;
+    for subject in Subject::ALL {
+        let mut displays: Vec<(&str, bool, bool)> = Vec::new();
+        for r in rows.iter().filter(|r| r.subject == subject) {
+            if !displays.iter().any(|(d, ..)| *d == r.display) {
+                displays.push((&r.display, r.metrics.recovery.is_some(), r.capture));
+            }
+        }
+        for (name, hitch, capture) in displays {
+            let worst = |mode, f: fn(&ModeMetrics) -> f64| {
+                rows.iter()
+                    .filter(|r| r.subject == subject && r.display == name)
+                    .filter(|r| r.policy == "accumulator")
+                    .map(|r| f(r.metrics.mode(mode)))
+                    .fold(0.0, f64::max)
+            };
+            let what = format!("{} on {name}", subject.name());
+            // Never a frame drawn inside a surface.
+            let inside = |mode| worst(mode, |m| m.inside_frames as f64);
+            assert_eq!(inside(DEFAULT_DRAW), 0.0, "{what}");
+            let (p99, near) = (
+                |m: &ModeMetrics| m.error.p99,
+                |m: &ModeMetrics| m.error_near.p99,
+            );
+            match subject {
+                // Smooth motion: no worse than predict by more than 5 % (it is predict there),
+                // and better than interpolation on every model.
+                Subject::Orbit | Subject::Shot => {
+                    assert!(
+                        worst(DEFAULT_DRAW, p99) <= 1.05 * worst(DrawMode::Predict, p99),
+                        "{what}"
+                    );
+                    if !capture {
+                        assert!(
+                            worst(DEFAULT_DRAW, p99) < worst(DrawMode::Interpolate, p99),
+                            "{what}"
+                        );
+                    }
+                }
+                // Through impacts: the frames around each one at most half predict's p99
+                // error, except on a display with a hitch (a frame over four times the median,
+                // `Metrics::recovery`: 60-hitch and the capture), whose frames near an impact
+                // are off by the hitch for every draw (metres): there no worse than predict.
+                Subject::Bounce | Subject::BounceHalf | Subject::Wall => {
+                    assert!(
+                        inside(DrawMode::Predict) > 0.0,
+                        "{what}: must reach a surface"
+                    );
+                    let (ours, predict) =
+                        (worst(DEFAULT_DRAW, near), worst(DrawMode::Predict, near));
+                    let limit = if hitch { predict } else { 0.5 * predict };
+                    assert!(
+                        ours <= limit,
+                        "{what}: {} vs predict's {} mm",
+                        ours * 1e3,
+                        predict * 1e3
+                    );
+                }
+                // An input cannot be foreseen: it mispredicts as predict does.
+                Subject::Command => {
+                    assert_eq!(
+                        worst(DEFAULT_DRAW, near),
+                        worst(DrawMode::Predict, near),
+                        "{what}"
+                    );
+                }
+            }
+        }
     }
 }
 

@@ -16,6 +16,7 @@ use crate::body::{BodyId, BodyState, Mass};
 use crate::integrate::Scheme;
 
 mod bvh;
+mod drawn;
 pub(crate) mod events;
 mod heightfield;
 mod level;
@@ -26,6 +27,7 @@ mod roots;
 mod surfaces;
 mod triangle;
 
+pub(crate) use drawn::straight_path;
 use level_query::Candidates;
 use resting::{clamp_outside, settle};
 pub(crate) use roots::bracketed_root;

@@ -35,16 +35,27 @@ pub enum DrawMode {
     /// game already measures). Shows the expected display time; off by the curvature over up
     /// to one refresh and a tick, and by a misprediction where frames are late.
     Predict,
+    /// [`DrawMode::Predict`]'s straight path, met by the scene's surfaces as the contact stage
+    /// meets a body: stopped at the ground, a wall or a level surface it reaches before the
+    /// display time and reflected with the surface's restitution (Volley's own). It never draws
+    /// a body inside a surface, and where nothing is in reach it is Predict exactly, bit for
+    /// bit. Off by the curvature over the lead, as Predict is, and by what it cannot foresee:
+    /// commands, and targets (sensors, which do not deflect).
+    Swept,
 }
 
 impl DrawMode {
     /// Every draw mode, in the order the tables list them.
-    pub const ALL: [DrawMode; 4] = [
+    pub const ALL: [DrawMode; DrawMode::COUNT] = [
         DrawMode::Current,
         DrawMode::Interpolate,
         DrawMode::Extrapolate,
         DrawMode::Predict,
+        DrawMode::Swept,
     ];
+
+    /// How many draw modes there are.
+    pub const COUNT: usize = 5;
 
     /// The name the command line and the tables use.
     pub fn name(self) -> &'static str {
@@ -53,6 +64,7 @@ impl DrawMode {
             DrawMode::Interpolate => "interpolate",
             DrawMode::Extrapolate => "extrapolate",
             DrawMode::Predict => "predict",
+            DrawMode::Swept => "swept",
         }
     }
 
@@ -62,17 +74,20 @@ impl DrawMode {
     }
 
     /// How far past the current tick the frame is drawn, in seconds: `alpha` is the clock's
-    /// fraction of a tick, `lead` the predicted time to the present (for [`DrawMode::Predict`]).
+    /// fraction of a tick, `lead` the predicted time to the present (for [`DrawMode::Predict`]
+    /// and [`DrawMode::Swept`]).
     pub fn offset(self, alpha: f64, dt: f64, lead: f64) -> f64 {
         match self {
             DrawMode::Current => 0.0,
             DrawMode::Interpolate => (alpha - 1.0) * dt,
             DrawMode::Extrapolate => alpha * dt,
-            DrawMode::Predict => alpha * dt + lead,
+            DrawMode::Predict | DrawMode::Swept => alpha * dt + lead,
         }
     }
 
-    /// The drawn position from the previous and current position and the current velocity.
+    /// The drawn position from the previous and current position and the current velocity, with
+    /// no surface in the way ([`DrawMode::Swept`] is [`DrawMode::Predict`] here; [`Draw`] and
+    /// [`swept_position`] meet the scene's surfaces).
     pub fn position(
         self,
         prev: DVec3,
@@ -85,25 +100,47 @@ impl DrawMode {
         match self {
             DrawMode::Current => cur,
             DrawMode::Interpolate => prev + (cur - prev) * alpha,
-            DrawMode::Extrapolate | DrawMode::Predict => cur + v * self.offset(alpha, dt, lead),
+            DrawMode::Extrapolate | DrawMode::Predict | DrawMode::Swept => {
+                cur + v * self.offset(alpha, dt, lead)
+            }
         }
     }
 }
 
-/// Volley's default loop policy, chosen by the sweep (`volley pacing`, docs/pacing/report.md):
-/// the lowest mean p99 display error of a 60 Hz orbit over the bundled display models, at no
-/// more latency than the accumulator with interpolation and with the drift the policy causes
-/// within one tick. The plain accumulator: every other policy either let game time stray more
-/// than a tick from wall time on some model (both snapping policies) or measured worse.
-/// `pacing_default_is_the_sweeps_choice` re-runs the choice and fails if this disagrees.
+/// Where [`DrawMode::Swept`] draws a body of radius `r` at `cur` moving at `v`, `tau` seconds
+/// past its tick, in `world`'s scene: the straight path met by the ground, the walls and the
+/// level surfaces ([`Contacts::penetration`](crate::Contacts::penetration) is 0 there), or
+/// `cur + v tau` exactly where the scene has none of them. A bounce slower than gravity's gain
+/// in a tick comes to rest, as the contact stage's does. It reads the scene only: the world
+/// is not changed and no random number is drawn.
+pub fn swept_position(world: &World, r: f64, cur: DVec3, v: DVec3, tau: f64) -> DVec3 {
+    let contacts = world.contacts();
+    let solid = contacts.ground.is_some() || !contacts.walls.is_empty() || contacts.has_levels();
+    if !solid || tau <= 0.0 {
+        return cur + v * tau;
+    }
+    let gravity = world.forces().gravity.map_or(0.0, DVec3::length);
+    crate::contact::straight_path(contacts, (cur, v), r, tau, gravity * world.dt())
+}
+
+/// Volley's default loop policy, chosen by the sweep (`volley pacing`, docs/pacing/report.md)
+/// over every subject (smooth motion, bounces, wall hits, commands): the lowest p99 display
+/// error, as a ratio to predict's on each subject, over the bundled display models at 60 Hz, at
+/// no more latency than the accumulator with interpolation, with the drift the policy causes
+/// within one tick and no frame drawn inside a surface. The plain accumulator: every other
+/// policy either let game time stray more than a tick from wall time on some model (both
+/// snapping policies) or measured worse. `pacing_default_is_the_sweeps_choice` re-runs the
+/// choice and fails if this disagrees.
 pub const DEFAULT_POLICY: LoopPolicy = LoopPolicy::Accumulator;
 
-/// Volley's default draw mode, chosen with [`DEFAULT_POLICY`]: [`DrawMode::Predict`], the
-/// current tick extrapolated by the velocity to the frame's predicted display time. It beats
-/// interpolation's p99 display error on every bundled model at the same input latency; its
-/// cost is a state drawn a little ahead of any tick (through a bounce, up to a tick and a
-/// refresh past the wall before the tick that reflects it).
-pub const DEFAULT_DRAW: DrawMode = DrawMode::Predict;
+/// Volley's default draw mode, chosen with [`DEFAULT_POLICY`]: [`DrawMode::Swept`], the
+/// current tick extrapolated by the velocity to the frame's predicted display time and met by
+/// the scene's surfaces. On smooth motion it is [`DrawMode::Predict`] exactly, which beats
+/// interpolation's p99 display error on every bundled model at the same input latency; through
+/// a bounce it never draws the body inside the surface, where predict drew it up to a tick and
+/// a refresh past it. What it cannot foresee is an input: after a command it mispredicts as
+/// predict does.
+pub const DEFAULT_DRAW: DrawMode = DrawMode::Swept;
 
 /// How many recent deltas [`DrawMode::Predict`] takes the median of.
 pub const LEAD_WINDOW: usize = 15;
@@ -148,6 +185,25 @@ pub struct DrawAt {
 }
 
 impl DrawAt {
+    /// Where body `i` of `world` is drawn from its position before the frame's last tick, its
+    /// current position and its velocity.
+    fn place(&self, world: &World, i: usize, (before, now, v): (DVec3, DVec3, DVec3)) -> DVec3 {
+        let dt = world.dt();
+        match self.mode {
+            DrawMode::Swept => {
+                let r = world.bodies().radii()[i];
+                swept_position(
+                    world,
+                    r,
+                    now,
+                    v,
+                    self.mode.offset(self.alpha, dt, self.lead),
+                )
+            }
+            mode => mode.position(before, now, v, self.alpha, dt, self.lead),
+        }
+    }
+
     /// Interpolation at `alpha`: the window's draw before the loop lab, and what a headless
     /// `--frames` run and the golden image draw.
     pub fn interpolated(alpha: f64) -> DrawAt {
@@ -165,7 +221,8 @@ impl DrawAt {
     pub fn trail_alpha(&self, dt: f64) -> f64 {
         match self.mode {
             DrawMode::Interpolate => self.alpha,
-            DrawMode::Current => 1.0,
+            // The trail ends at the tick: the swept body may have turned at a surface since.
+            DrawMode::Current | DrawMode::Swept => 1.0,
             mode if dt > 0.0 => 1.0 + mode.offset(self.alpha, dt, self.lead) / dt,
             _ => 1.0,
         }
@@ -286,14 +343,13 @@ impl Draw {
     }
 
     /// Calls `visit(i, position)` for every body `i` of `world` (storage order) with its drawn
-    /// position under `at`: [`DrawMode::position`] from the position before the frame's last
+    /// position under `at`: [`DrawMode::position`] (or [`swept_position`]) from the position before the frame's last
     /// tick (the current one for a body spawned since), the current position and the current
     /// velocity (momentum / mass). Ids are sorted in both, so one merge pass pairs them.
     pub fn drawn(&self, world: &World, at: DrawAt, mut visit: impl FnMut(usize, DVec3)) {
         let bodies = world.bodies();
         let current = bodies.positions();
         let prev = &self.previous;
-        let dt = world.dt();
         let mut j = 0;
         for (i, &id) in bodies.ids().iter().enumerate() {
             while j < prev.ids.len() && prev.ids[j] < id {
@@ -305,10 +361,10 @@ impl Draw {
                 _ => now,
             };
             let v = match at.mode {
-                DrawMode::Extrapolate | DrawMode::Predict => bodies.velocity(i),
+                DrawMode::Extrapolate | DrawMode::Predict | DrawMode::Swept => bodies.velocity(i),
                 DrawMode::Current | DrawMode::Interpolate => DVec3::ZERO,
             };
-            visit(i, at.mode.position(before, now, v, at.alpha, dt, at.lead));
+            visit(i, at.place(world, i, (before, now, v)));
         }
     }
 
@@ -323,10 +379,7 @@ impl Draw {
             Err(_) => now,
         };
         let v = bodies.velocity(i);
-        Some(
-            at.mode
-                .position(before, now, v, at.alpha, world.dt(), at.lead),
-        )
+        Some(at.place(world, i, (before, now, v)))
     }
 
     /// The game time in ticks since tick 0 that a frame drawn at `at` shows: between the tick

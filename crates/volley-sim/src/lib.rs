@@ -251,7 +251,9 @@ pub use contact::{
     MeshSurface, Surface, Target, Transform, Wall,
 };
 pub use drag::{DragTable, DragTableError, Interpolation};
-pub use draw::{DEFAULT_DRAW, DEFAULT_POLICY, Draw, DrawAt, DrawMode, LEAD_WINDOW, Lead};
+pub use draw::{
+    DEFAULT_DRAW, DEFAULT_POLICY, Draw, DrawAt, DrawMode, LEAD_WINDOW, Lead, swept_position,
+};
 pub use exact::{AimError, Arc as LaunchArc};
 pub use firing::{
     Blocked as ShotBlocked, FiringError, Holdover, HoldoverRow, Mode as AimMode, Range as AimRange,

@@ -51,7 +51,12 @@ pub fn draw_note(mode: DrawMode) -> &'static str {
         }
         DrawMode::Predict => {
             "extrapolated to the expected present (sample + median frame delta): the least \
-             display error; overshoots through a bounce by up to a tick and a refresh"
+             display error on smooth motion; overshoots through a bounce by up to a tick and a \
+             refresh"
+        }
+        DrawMode::Swept => {
+            "predict's path stopped and reflected at the ground, walls and level surfaces: \
+             never inside a surface; where none is in reach, predict exactly"
         }
     }
 }

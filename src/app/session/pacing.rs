@@ -129,7 +129,11 @@ pub struct PacingFrame {
     pub steps: u32,
     /// Each draw mode's display error for the measured body (m), in [`DrawMode::ALL`]'s order;
     /// `None` where there is none (no closed form, a dropped frame, no such body).
-    pub errors: [Option<f64>; 4],
+    pub errors: [Option<f64>; DrawMode::COUNT],
+    /// How deep the deepest body the frame draws (in the selected draw mode, every body of the
+    /// first lane) is inside a surface (m; 0 when none is): a ball shown in the floor. It needs
+    /// no reference, so it is measured on every scene.
+    pub inside: f64,
     /// Game time minus the wall clock's game time at the frame's sample (s of sim time).
     pub drift: f64,
 }
@@ -296,6 +300,16 @@ impl PacingLog {
         self.truth = Some(truth);
         self.last_tick = Some(tick);
         let (errors, mark) = self.measure(lane, input, truth, alpha, rate);
+        let mut inside = 0.0f64;
+        let drawn_at = DrawAt {
+            mode: input.draw,
+            alpha,
+            lead: self.lead,
+        };
+        let radii = world.bodies().radii();
+        lane.history.drawn(world, drawn_at, |i, p| {
+            inside = inside.max(world.contacts().penetration(p, radii[i]));
+        });
         if let Some(mark) = mark {
             if self.judder.len() == JUDDER_FRAMES {
                 self.judder.remove(0);
@@ -309,6 +323,7 @@ impl PacingLog {
             wall: self.wall,
             steps,
             errors,
+            inside,
             drift: sampled - truth,
         });
     }
@@ -322,9 +337,9 @@ impl PacingLog {
         truth: f64,
         alpha: f64,
         rate: f64,
-    ) -> ([Option<f64>; 4], Option<JudderMark>) {
+    ) -> ([Option<f64>; DrawMode::COUNT], Option<JudderMark>) {
         let world = &lane.sim.world;
-        let none = [None; 4];
+        let none = [None; DrawMode::COUNT];
         let Some(&id) = world.bodies().ids().get(self.body) else {
             self.note = Some(NoError::NoBody(self.body));
             self.judder.clear();

@@ -11,15 +11,20 @@ use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
 
-use volley_sim::internals::body::BodyState;
+use glam::DVec3;
+
+use volley_sim::internals::body::{BodyId, BodyState};
 use volley_sim::internals::clock::LoopPolicy;
+use volley_sim::internals::command::{Command, Stamped};
 use volley_sim::internals::exact::closed_form;
+use volley_sim::internals::forces::Forces;
 use volley_sim::internals::integrate::Integrator;
+use volley_sim::internals::scene::BodySpec;
 use volley_sim::internals::scene::{self, Scene};
 use volley_sim::internals::sim_loop::{LoopError, SimLoop, TickObserver};
 use volley_sim::internals::world::World;
 
-pub use volley_sim::internals::draw::{DrawMode, LEAD_WINDOW, Lead};
+pub use volley_sim::internals::draw::{DrawMode, LEAD_WINDOW, Lead, swept_position};
 
 use super::DisplayTiming;
 use super::metrics::{FrameRecord, Metrics};
@@ -32,17 +37,52 @@ pub enum Subject {
     /// The seed's shot: 30 m/s on the high arc under gravity, with no ground, so it flies on
     /// for the whole run (its speed grows as it falls).
     Shot,
+    /// A ball of radius 0.1 m dropped from 10.1 m onto the ground at restitution 1: it meets
+    /// the ground at 14.0 m/s every 2.86 s, for ever.
+    Bounce,
+    /// The same drop at restitution 0.5: bounces of a quarter of the height before, until
+    /// the rebound is slower than gravity's gain in a tick and the ball rests (after 4.2 s).
+    BounceHalf,
+    /// A ball of radius 0.1 m at 13 m/s between two walls 0.2 m thick at x = -6 and 6 m, at
+    /// restitution 1 and with no force: a hit every 0.89 s (at 60 Hz, one in
+    /// 13 on a tick boundary, the rest between), a triangle wave.
+    Wall,
+    /// A ball at 10 m/s with no force or surface, turned 90 degrees by a command every second
+    /// (a game's input: `despawn` and `spawn` at the same point at a known tick), so it runs
+    /// round a 10 m square. What no draw can foresee: its error after each turn is the
+    /// misprediction.
+    Command,
 }
 
+/// Gravity in the loop lab's scenes (m/s^2).
+const G: f64 = 9.81;
+/// The dropped ball's radius and starting height (m), as in `hard/bounce`.
+const DROP: (f64, f64) = (0.1, 10.1);
+/// The wall subject's ball radius, walls' half-spacing and thickness (m), and speed (m/s).
+const WALLS: (f64, f64, f64, f64) = (0.1, 6.0, 0.2, 13.0);
+/// The command subject's speed (m/s) and seconds between turns.
+const TURN: (f64, f64) = (10.0, 1.0);
+
 impl Subject {
-    /// Both subjects.
-    pub const ALL: [Subject; 2] = [Subject::Orbit, Subject::Shot];
+    /// Every subject: the smooth ones first, then the ones with discontinuities.
+    pub const ALL: [Subject; 6] = [
+        Subject::Orbit,
+        Subject::Shot,
+        Subject::Bounce,
+        Subject::BounceHalf,
+        Subject::Wall,
+        Subject::Command,
+    ];
 
     /// The name the tables use.
     pub fn name(self) -> &'static str {
         match self {
             Subject::Orbit => "orbit",
             Subject::Shot => "shot",
+            Subject::Bounce => "bounce",
+            Subject::BounceHalf => "bounce-0.5",
+            Subject::Wall => "wall",
+            Subject::Command => "command",
         }
     }
 
@@ -69,6 +109,34 @@ impl Subject {
                  bodies: [(mass: 2.5, radius: 0.1, position: (10.0, 0.0, 2.0), \
                  launch: Aim(target: (50.0, 0.0, 20.0), speed: 30.0, arc: High))])"
             ),
+            Subject::Bounce | Subject::BounceHalf => {
+                let e = self.restitution();
+                let (r, z) = DROP;
+                format!(
+                    "Scene(name: \"{}\", dt: {dt:?}, integrator: VelocityVerlet, \
+                     forces: [Gravity((0.0, 0.0, -{G:?}))], \
+                     ground: (height: 0.0, restitution: {e:?}), \
+                     bodies: [(mass: 1.0, radius: {r:?}, position: (0.0, 0.0, {z:?}))])",
+                    self.name()
+                )
+            }
+            Subject::Wall => {
+                let (r, x, thick, v) = WALLS;
+                format!(
+                    "Scene(name: \"wall\", dt: {dt:?}, integrator: VelocityVerlet, forces: [], \
+                     walls: [(point: ({x:?}, 0.0, 0.0), normal: (1.0, 0.0, 0.0), \
+                     thickness: {thick:?}, restitution: 1.0), (point: (-{x:?}, 0.0, 0.0), \
+                     normal: (1.0, 0.0, 0.0), thickness: {thick:?}, restitution: 1.0)], \
+                     bodies: [(mass: 1.0, radius: {r:?}, position: (0.0, 0.0, 1.0), \
+                     launch: Velocity(({v:?}, 0.0, 0.0)))])"
+                )
+            }
+            Subject::Command => format!(
+                "Scene(name: \"command\", dt: {dt:?}, integrator: VelocityVerlet, forces: [], \
+                 bodies: [(mass: 1.0, radius: 0.1, position: (0.0, 0.0, 1.0), \
+                 launch: Velocity(({:?}, 0.0, 0.0)))])",
+                TURN.0
+            ),
         };
         let mut scene = scene::parse(&text, "pacing.ron", self.name())
             .expect("the loop lab's own scene text is valid");
@@ -76,6 +144,166 @@ impl Subject {
             .set_integrator(integrator)
             .expect("every integrator runs the loop lab's subjects (a point mass, gravity)");
         scene
+    }
+
+    /// The ground's restitution of a bounce subject (1 otherwise).
+    fn restitution(self) -> f64 {
+        match self {
+            Subject::BounceHalf => 0.5,
+            _ => 1.0,
+        }
+    }
+
+    /// The commands the subject's game gives at `rate` ticks per second, up to `seconds`: the
+    /// command subject's turns (a new body with the turned velocity where the old one is, at
+    /// the exact position of the turn), none for the others.
+    pub fn commands(self, rate: f64, seconds: f64) -> Vec<Stamped> {
+        if self != Subject::Command {
+            return Vec::new();
+        }
+        let dt = 1.0 / rate;
+        let every = (TURN.1 * rate).round() as u64;
+        let mut out = Vec::new();
+        for j in 1..=(seconds / TURN.1) as u64 {
+            let tick = j * every;
+            let (position, velocity) = self.turn(dt, every, j);
+            out.push(Stamped {
+                tick,
+                command: Command::Despawn(BodyId(j - 1)),
+            });
+            out.push(Stamped {
+                tick,
+                command: Command::Spawn(BodySpec {
+                    mass: 1.0,
+                    radius: 0.1,
+                    position,
+                    velocity,
+                    spin: DVec3::ZERO,
+                }),
+            });
+        }
+        out
+    }
+
+    /// The command subject after `j` turns, one every `every` ticks of `dt`: where the turn
+    /// is, and the velocity from it.
+    fn turn(self, dt: f64, every: u64, j: u64) -> (DVec3, DVec3) {
+        let velocity = |k: u64| match k % 4 {
+            0 => DVec3::new(TURN.0, 0.0, 0.0),
+            1 => DVec3::new(0.0, TURN.0, 0.0),
+            2 => DVec3::new(-TURN.0, 0.0, 0.0),
+            _ => DVec3::new(0.0, -TURN.0, 0.0),
+        };
+        let leg = (every as f64) * dt;
+        let mut p = DVec3::new(0.0, 0.0, 1.0);
+        for k in 0..j {
+            p += velocity(k) * leg;
+        }
+        (p, velocity(j))
+    }
+
+    /// The exact position at game time `t` (s since tick 0) at `rate` ticks per second, from
+    /// the scene's start `start` under its `forces`: the closed form for the smooth subjects,
+    /// and for the others the closed form between the discontinuities, which are exact (a
+    /// ground or wall hit is a root of a parabola or a line, a turn a known tick).
+    pub fn exact(
+        self,
+        rate: f64,
+        (forces, start, mass): (&Forces, BodyState, f64),
+        t: f64,
+    ) -> Option<DVec3> {
+        match self {
+            Subject::Orbit | Subject::Shot => closed_form(forces, start, mass, t).map(|s| s.p),
+            Subject::Bounce | Subject::BounceHalf => {
+                let (r, z0) = DROP;
+                let e = self.restitution();
+                let fall = (2.0 * (z0 - r) / G).sqrt();
+                let mut u = G * fall; // speed at each impact
+                if t <= fall {
+                    return Some(DVec3::new(0.0, 0.0, z0 - 0.5 * G * t * t));
+                }
+                let mut at = fall;
+                // The sim rests once a rebound is slower than gravity's gain in a tick.
+                let rest = G / rate;
+                loop {
+                    u *= e;
+                    if u <= rest {
+                        return Some(DVec3::new(0.0, 0.0, r));
+                    }
+                    let flight = 2.0 * u / G;
+                    if e == 1.0 {
+                        let tau = (t - at) % flight;
+                        return Some(DVec3::new(0.0, 0.0, r + u * tau - 0.5 * G * tau * tau));
+                    }
+                    if t <= at + flight {
+                        let tau = t - at;
+                        return Some(DVec3::new(0.0, 0.0, r + u * tau - 0.5 * G * tau * tau));
+                    }
+                    at += flight;
+                }
+            }
+            Subject::Wall => {
+                let (r, x, thick, v) = WALLS;
+                let reach = x - 0.5 * thick - r;
+                let u = (v * t + reach).rem_euclid(4.0 * reach);
+                let x = if u < 2.0 * reach {
+                    u - reach
+                } else {
+                    3.0 * reach - u
+                };
+                Some(DVec3::new(x, 0.0, start.p.z))
+            }
+            Subject::Command => {
+                let dt = 1.0 / rate;
+                let every = (TURN.1 * rate).round() as u64;
+                let leg = every as f64 * dt;
+                let j = (t / leg).floor().max(0.0) as u64;
+                let (p, v) = self.turn(dt, every, j);
+                Some(p + v * (t - j as f64 * leg))
+            }
+        }
+    }
+
+    /// The times (s since tick 0) of the subject's discontinuities up to `until` at `rate`
+    /// ticks per second: its impacts and its turns (none for the smooth subjects).
+    pub fn discontinuities(self, rate: f64, until: f64) -> Vec<f64> {
+        let mut out = Vec::new();
+        match self {
+            Subject::Orbit | Subject::Shot => {}
+            Subject::Bounce | Subject::BounceHalf => {
+                let (r, z0) = DROP;
+                let e = self.restitution();
+                let mut at = (2.0 * (z0 - r) / G).sqrt();
+                let mut u = G * at;
+                while at <= until {
+                    out.push(at);
+                    u *= e;
+                    if u <= G / rate {
+                        break;
+                    }
+                    at += 2.0 * u / G;
+                }
+            }
+            Subject::Wall => {
+                let (r, x, thick, v) = WALLS;
+                let reach = x - 0.5 * thick - r;
+                let mut k = 0.0;
+                while (reach + 2.0 * reach * k) / v <= until {
+                    out.push((reach + 2.0 * reach * k) / v);
+                    k += 1.0;
+                }
+            }
+            Subject::Command => {
+                let every = (TURN.1 * rate).round() as u64;
+                let leg = every as f64 / rate;
+                let mut j = 1.0;
+                while j * leg <= until {
+                    out.push(j * leg);
+                    j += 1.0;
+                }
+            }
+        }
+        out
     }
 }
 
@@ -123,6 +351,17 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
     sim.clock.set_policy(config.policy);
     let dt = sim.world.dt();
     let timestep = sim.clock.timestep();
+    let span = timing.presents.last().map_or(0.0, |p| {
+        p.shown.unwrap_or(p.sampled).as_secs_f64() - timing.presents[0].sampled.as_secs_f64()
+    }) + 1.0;
+    sim.schedule(config.subject.commands(config.rate, span));
+    // Frames shown this near a discontinuity (a tick and a refresh: what predict draws past
+    // one) are the frames around it.
+    let refresh = timing
+        .median_display_interval()
+        .map_or(1.0 / 60.0, |d| d.as_secs_f64());
+    let near_window = dt + refresh;
+    let jumps = config.subject.discontinuities(config.rate, span + 1.0);
     let first =
         Duration::from_nanos((config.phase.clamp(0.0, 1.0) * timestep.as_nanos() as f64) as u64);
     let mut before = Before {
@@ -149,13 +388,26 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
         let v = cur.mv / masses[body];
         let prev = before.prev.get(body).map_or(cur.p, |s| s.p);
         let shown = present.shown.map(|d| d.saturating_sub(origin));
-        let exact = shown.and_then(|d| {
-            // The exact position at the display time, on the game's clock (tick 0 at the first
-            // sample, shifted by the phase the first frame started with).
-            let t = d.as_secs_f64() + first.as_secs_f64();
-            closed_form(&forces, start[body], masses[body], t).map(|s| s.p)
+        // The display time on the game's clock (tick 0 at the first sample, shifted by the
+        // phase the first frame started with).
+        let display = shown.map(|d| d.as_secs_f64() + first.as_secs_f64());
+        let exact = display.and_then(|t| {
+            let of = (&forces, start[body], masses[body]);
+            config.subject.exact(config.rate, of, t)
         });
-        let drawn = DrawMode::ALL.map(|m| m.position(prev, cur.p, v, ticks.alpha, dt, lead));
+        let near = display.is_some_and(|t| {
+            let k = jumps.partition_point(|&j| j < t - near_window);
+            jumps.get(k).is_some_and(|&j| j <= t + near_window)
+        });
+        let r = sim.world.bodies().radii()[body];
+        let drawn = DrawMode::ALL.map(|m| match m {
+            DrawMode::Swept => {
+                let tau = m.offset(ticks.alpha, dt, lead);
+                swept_position(&sim.world, r, cur.p, v, tau)
+            }
+            m => m.position(prev, cur.p, v, ticks.alpha, dt, lead),
+        });
+        let inside = drawn.map(|p| sim.world.contacts().penetration(p, r));
         // The game time drawn, on the wall clock (less the first frame's phase), so that
         // display time minus it is how old what is shown is.
         let drawn_time = DrawMode::ALL.map(|m| {
@@ -173,7 +425,9 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
             dropped: sim.clock.dropped().as_secs_f64(),
             drawn,
             drawn_time,
+            inside,
             exact,
+            near,
         });
     }
     Ok(Metrics::of(&records, sim.clock.dropped().as_secs_f64()))

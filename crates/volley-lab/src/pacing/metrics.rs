@@ -14,6 +14,13 @@
 //!   applied before the next tick) to the display time of the first shown frame whose drawn
 //!   state includes that tick (ms), over every frame.
 //! - **lag**: display time minus the game time drawn (ms): how old what is shown is.
+//! - **inside**: the frames shown with the drawn body inside a surface (the ground, a wall, a
+//!   level surface), and the deepest it was drawn there (m): a frame a player sees a ball in
+//!   the floor.
+//! - **near and far**: the display error of the frames shown within a tick and a refresh of a
+//!   discontinuity (an impact or a command's turn), and of the rest, apart: a bounce is a few
+//!   frames a second, too few to move a p99 over all frames. After a command, the error near
+//!   is the misprediction: no draw can foresee an input.
 //! - **cadence**: ticks per frame, as a histogram (0, 1, 2, 3 or more), the first frames as a
 //!   string, and 0-to-2 swings (a 0-tick frame next to one of 2 or more) per second.
 //! - **drift**: game time (ticks plus the accumulator) minus wall time at each frame's sample
@@ -52,11 +59,15 @@ pub struct FrameRecord {
     /// Time the clock has dropped so far (s): the clamp and the tick cap, on purpose.
     pub dropped: f64,
     /// Drawn position per draw mode ([`DrawMode::ALL`] order).
-    pub drawn: [DVec3; 4],
+    pub drawn: [DVec3; DrawMode::COUNT],
     /// Game time drawn per draw mode, on the wall clock: less the first frame's phase (s).
-    pub drawn_time: [f64; 4],
+    pub drawn_time: [f64; DrawMode::COUNT],
+    /// How deep the drawn body is inside a surface per draw mode (m; 0 outside).
+    pub inside: [f64; DrawMode::COUNT],
     /// The exact position at the display time; `None` if not shown.
     pub exact: Option<DVec3>,
+    /// Whether it is shown within a tick and a refresh of a discontinuity.
+    pub near: bool,
 }
 
 /// Median, 99th percentile and largest value of a sample.
@@ -100,6 +111,14 @@ pub struct ModeMetrics {
     pub latency: Stats,
     /// Median lag (ms).
     pub lag: f64,
+    /// Frames shown with the drawn body inside a surface.
+    pub inside_frames: u64,
+    /// The deepest a shown frame drew it inside a surface (m).
+    pub inside_depth: f64,
+    /// Display error of the frames shown near a discontinuity (m).
+    pub error_near: Stats,
+    /// Display error of the other frames (m).
+    pub error_far: Stats,
 }
 
 /// Most frames the cadence string holds.
@@ -113,7 +132,7 @@ pub struct Metrics {
     /// Frames shown.
     pub shown: usize,
     /// Per draw mode, in [`DrawMode::ALL`] order.
-    pub modes: [ModeMetrics; 4],
+    pub modes: [ModeMetrics; DrawMode::COUNT],
     /// Frames that ran 0, 1, 2, and 3 or more ticks.
     pub histogram: [u64; 4],
     /// Ticks per frame of the first frames, one digit each (`+` for 10 or more).
@@ -196,10 +215,18 @@ impl Metrics {
 
 fn mode_metrics(records: &[FrameRecord], shown: &[&FrameRecord], m: usize) -> ModeMetrics {
     let mut error = Vec::with_capacity(shown.len());
+    let (mut near, mut far) = (Vec::new(), Vec::with_capacity(shown.len()));
     let mut lag = Vec::with_capacity(shown.len());
+    let (mut inside_frames, mut inside_depth) = (0, 0.0f64);
     for r in shown {
+        if r.inside[m] > 0.0 {
+            inside_frames += 1;
+            inside_depth = inside_depth.max(r.inside[m]);
+        }
         if let (Some(e), Some(d)) = (r.exact, r.shown) {
-            error.push((r.drawn[m] - e).length());
+            let err = (r.drawn[m] - e).length();
+            error.push(err);
+            if r.near { &mut near } else { &mut far }.push(err);
             lag.push((d - r.drawn_time[m]) * 1e3);
         }
     }
@@ -237,6 +264,10 @@ fn mode_metrics(records: &[FrameRecord], shown: &[&FrameRecord], m: usize) -> Mo
         judder: Stats::of(judder),
         latency: Stats::of(latency),
         lag: Stats::of(lag).median,
+        inside_frames,
+        inside_depth,
+        error_near: Stats::of(near),
+        error_far: Stats::of(far),
     }
 }
 

@@ -28,8 +28,8 @@ pub mod sweep;
 
 pub use capture::{CaptureError, read_capture};
 pub use display::{DisplayModel, DisplayTiming, Present};
-pub use lab::{DrawMode, LEAD_WINDOW, Lead, RunConfig, Subject, run};
+pub use lab::{DrawMode, LEAD_WINDOW, Lead, RunConfig, Subject, run, swept_position};
 pub use metrics::{Metrics, ModeMetrics, Stats};
-pub use sweep::{Choice, Row, Sweep, SweepDisplay, choose};
+pub use sweep::{Choice, OverallChoice, Row, Sweep, SweepDisplay, choose, choose_all};
 
 pub use volley_sim::internals::draw::{DEFAULT_DRAW, DEFAULT_POLICY};

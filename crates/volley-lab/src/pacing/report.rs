@@ -6,7 +6,7 @@ use std::fmt::Write;
 use volley_sim::internals::integrate::Integrator;
 
 use super::lab::{DrawMode, Subject};
-use super::sweep::{Cell, Row, cells, choose};
+use super::sweep::{Cell, Row, cells, choose, choose_all};
 
 /// Every row x draw mode as CSV, one line each, with a header.
 pub fn csv(rows: &[Row]) -> String {
@@ -15,7 +15,7 @@ pub fn csv(rows: &[Row]) -> String {
          error_median_m,error_p99_m,error_worst_m,animation_p99_ms,animation_worst_ms,\
          judder_p99_m,latency_median_ms,latency_p99_ms,lag_median_ms,ticks0,ticks1,ticks2,\
          ticks3plus,swings_per_s,drift_worst_ms,drift_end_ms,drift_growth_ms,drift_kept_ms,dropped_ms,\
-         recovery_ms\n",
+         recovery_ms,inside_frames,inside_depth_m,error_near_p99_m,error_far_p99_m\n",
     );
     for r in rows {
         let m = &r.metrics;
@@ -24,7 +24,7 @@ pub fn csv(rows: &[Row]) -> String {
             let _ = writeln!(
                 out,
                 "{},{},{},{},{},{},{},{},{},{:.6e},{:.6e},{:.6e},{:.4},{:.4},{:.6e},{:.3},{:.3},\
-                 {:.3},{},{},{},{},{:.4},{:.3},{:.3},{:.3},{:.3},{:.3},{}",
+                 {:.3},{},{},{},{},{:.4},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{:.6e},{:.6e},{:.6e}",
                 r.display,
                 r.rate,
                 r.policy,
@@ -54,6 +54,10 @@ pub fn csv(rows: &[Row]) -> String {
                 m.drift_kept,
                 m.dropped,
                 m.recovery.map_or(String::new(), |r| format!("{r:.1}")),
+                d.inside_frames,
+                d.inside_depth,
+                d.error_near.p99,
+                d.error_far.p99,
             );
         }
     }
@@ -140,6 +144,7 @@ pub fn page(
             best.mode.name()
         );
     }
+    every_subject(&mut out, rows, rate, integrator);
     let mut rates: Vec<f64> = Vec::new();
     for r in rows {
         if !rates.contains(&r.rate) {
@@ -273,4 +278,94 @@ pub fn page(
         }
     }
     out
+}
+
+/// The page's ranking over every subject the sweep ran, and what each draw mode shows through
+/// the discontinuities: frames inside a surface, and the error near them and away from them.
+fn every_subject(out: &mut String, rows: &[Row], rate: f64, integrator: Integrator) {
+    let overall = choose_all(rows, rate, integrator);
+    let Some(first) = overall.first() else {
+        return;
+    };
+    if first.per_subject.len() < 2 {
+        return;
+    }
+    let names: Vec<&str> = first.per_subject.iter().map(|(s, _)| s.name()).collect();
+    let _ = writeln!(
+        out,
+        "## Every subject: the default\n\n\
+         Ranked by the mean over the subjects of each one's mean p99 display error over the \
+         display models, as a ratio to `accumulator` + `predict` on that subject (1.00 is \
+         predict's; the subjects' errors differ tenfold, so a plain mean would rank on one). \
+         Admissible: the limits above on every subject, and not one frame drawn inside a \
+         surface on any display, models and captures, with either phase.\n\n\
+         | rank | policy | draw | score | {} | most frames inside a surface | admissible |\n\
+         |---:|---|---|---:|{}---:|---|",
+        names.join(" | "),
+        "---:|".repeat(names.len()),
+    );
+    for (i, c) in overall.iter().enumerate() {
+        let ratios: Vec<String> = c
+            .per_subject
+            .iter()
+            .map(|(_, r)| format!("{r:.2}"))
+            .collect();
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {:.3} | {} | {} | {} |",
+            i + 1,
+            c.policy,
+            c.mode.name(),
+            c.score,
+            ratios.join(" | "),
+            c.inside_frames,
+            if c.admissible { "yes" } else { "no" }
+        );
+    }
+    if first.admissible {
+        let _ = writeln!(
+            out,
+            "\n**Chosen over every subject: `{}` with `{}`.**\n",
+            first.policy,
+            first.mode.name()
+        );
+    }
+    let _ = writeln!(
+        out,
+        "## Through contacts and commands\n\n\
+         The plain accumulator at {rate} Hz on the subjects with discontinuities, each draw \
+         mode over the display models (captures too): the most frames drawn with the ball \
+         inside a surface and the deepest, and the p99 display error of the frames shown within \
+         a tick and a refresh of an impact or a command (after a command, the misprediction), \
+         apart from the rest (mean over the models).\n\n\
+         | subject | draw | most frames inside | deepest (mm) | p99 near (mm) | p99 away (mm) |\n\
+         |---|---|---:|---:|---:|---:|"
+    );
+    for &(subject, _) in &first.per_subject {
+        if matches!(subject, Subject::Orbit | Subject::Shot) {
+            continue;
+        }
+        let all = cells(rows, subject, integrator);
+        for mode in DrawMode::ALL {
+            let here: Vec<&Cell<'_>> = all
+                .iter()
+                .filter(|c| c.row.rate == rate && c.row.policy == "accumulator" && c.mode == mode)
+                .collect();
+            let models: Vec<&&Cell<'_>> = here.iter().filter(|c| !c.row.capture).collect();
+            let mean = |f: &dyn Fn(&Cell<'_>) -> f64| {
+                models.iter().map(|c| f(c)).sum::<f64>() / models.len().max(1) as f64
+            };
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {:.1} | {:.1} | {:.1} |",
+                subject.name(),
+                mode.name(),
+                here.iter().map(|c| c.inside_frames).max().unwrap_or(0),
+                here.iter().map(|c| c.inside_depth).fold(0.0, f64::max) * 1e3,
+                mean(&|c| c.metrics().error_near.p99) * 1e3,
+                mean(&|c| c.metrics().error_far.p99) * 1e3,
+            );
+        }
+    }
+    out.push('\n');
 }

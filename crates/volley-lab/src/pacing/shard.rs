@@ -26,7 +26,7 @@ use super::sweep::{Row, Sweep};
 /// The `format` field of every pacing shard file.
 pub const FORMAT: &str = "volley-pacing-shard";
 /// The version of the file layout this build reads and writes.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 
 /// One display of the sweep as a shard names it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -235,6 +235,10 @@ pub struct Cell<'a> {
     pub drift_worst: f64,
     /// The larger worst |drift + dropped| of the phases (ms): see [`Metrics::drift_kept`].
     pub drift_kept: f64,
+    /// The more frames drawn inside a surface of the phases.
+    pub inside_frames: u64,
+    /// The deeper of the phases' deepest (m).
+    pub inside_depth: f64,
 }
 
 impl Cell<'_> {
@@ -268,6 +272,8 @@ pub fn cells(rows: &[Row], subject: Subject, integrator: Integrator) -> Vec<Cell
                     c.drift_growth = c.drift_growth.max(m.drift_growth.abs());
                     c.drift_worst = c.drift_worst.max(m.drift_worst);
                     c.drift_kept = c.drift_kept.max(m.drift_kept);
+                    c.inside_frames = c.inside_frames.max(m.mode(mode).inside_frames);
+                    c.inside_depth = c.inside_depth.max(m.mode(mode).inside_depth);
                 }
                 None => {
                     at.insert(key, out.len());
@@ -278,6 +284,8 @@ pub fn cells(rows: &[Row], subject: Subject, integrator: Integrator) -> Vec<Cell
                         drift_growth: m.drift_growth.abs(),
                         drift_worst: m.drift_worst,
                         drift_kept: m.drift_kept,
+                        inside_frames: m.mode(mode).inside_frames,
+                        inside_depth: m.mode(mode).inside_depth,
                     });
                 }
             }
@@ -351,6 +359,96 @@ pub fn choose(rows: &[Row], rate: f64, subject: Subject, integrator: Integrator)
         b.admissible
             .cmp(&a.admissible)
             .then(a.p99_error.total_cmp(&b.p99_error))
+    });
+    out
+}
+
+/// A candidate default scored over every subject of the sweep: see [`choose_all`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct OverallChoice {
+    /// Policy name.
+    pub policy: &'static str,
+    /// Draw mode.
+    pub mode: DrawMode,
+    /// Mean over the subjects of its mean-over-models p99 display error divided by
+    /// `accumulator + predict`'s on the same subject (1 is predict's, lower is better).
+    pub score: f64,
+    /// Its score on each subject, in the sweep's subject order: `(subject, p99 ratio)`.
+    pub per_subject: Vec<(Subject, f64)>,
+    /// Most frames drawn inside a surface on any display, model or capture, and subject (the
+    /// worse phase).
+    pub inside_frames: u64,
+    /// Whether it is admissible on every subject ([`choose`]'s latency and drift limits) and
+    /// draws no frame inside a surface on any model.
+    pub admissible: bool,
+}
+
+/// Every policy x draw mode scored at `rate` under `integrator` over every subject in `rows`,
+/// best admissible first: the mean over subjects of its mean p99 display error over the display
+/// models as a ratio to `accumulator + predict`'s on that subject (the subjects' scales differ
+/// tenfold, so a plain mean would rank on the fastest one). Admissible: [`choose`]'s limits on
+/// every subject, and not one frame drawn inside a surface on any display (captures too) and
+/// subject.
+pub fn choose_all(rows: &[Row], rate: f64, integrator: Integrator) -> Vec<OverallChoice> {
+    let mut subjects: Vec<Subject> = Vec::new();
+    for r in rows {
+        if r.integrator == integrator && r.rate == rate && !subjects.contains(&r.subject) {
+            subjects.push(r.subject);
+        }
+    }
+    let per: Vec<(Subject, Vec<Choice>, Vec<Cell<'_>>)> = subjects
+        .iter()
+        .map(|&s| {
+            (
+                s,
+                choose(rows, rate, s, integrator),
+                cells(rows, s, integrator),
+            )
+        })
+        .collect();
+    let mut out = Vec::new();
+    for policy in LoopPolicy::NAMES {
+        for mode in DrawMode::ALL {
+            let mut per_subject = Vec::new();
+            let mut admissible = true;
+            let mut inside_frames = 0;
+            for (subject, ranking, cells) in &per {
+                let find =
+                    |p: &str, m: DrawMode| ranking.iter().find(|c| c.policy == p && c.mode == m);
+                let (Some(c), Some(base)) =
+                    (find(policy, mode), find("accumulator", DrawMode::Predict))
+                else {
+                    continue;
+                };
+                per_subject.push((
+                    *subject,
+                    c.p99_error / base.p99_error.max(f64::MIN_POSITIVE),
+                ));
+                admissible &= c.admissible;
+                inside_frames = cells
+                    .iter()
+                    .filter(|k| k.row.rate == rate && k.row.policy == policy && k.mode == mode)
+                    .map(|k| k.inside_frames)
+                    .fold(inside_frames, u64::max);
+            }
+            if per_subject.is_empty() {
+                continue;
+            }
+            let score = per_subject.iter().map(|(_, r)| r).sum::<f64>() / per_subject.len() as f64;
+            out.push(OverallChoice {
+                policy,
+                mode,
+                score,
+                per_subject,
+                inside_frames,
+                admissible: admissible && inside_frames == 0,
+            });
+        }
+    }
+    out.sort_by(|a, b| {
+        b.admissible
+            .cmp(&a.admissible)
+            .then(a.score.total_cmp(&b.score))
     });
     out
 }

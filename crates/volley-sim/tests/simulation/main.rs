@@ -14,6 +14,7 @@ mod convergence;
 mod custom;
 mod declared;
 mod drag;
+mod draw;
 mod events;
 mod exact;
 mod firing;
