@@ -192,14 +192,19 @@ impl App {
             (None, Some(why)) => format!("no display error: {why}"),
             (None, None) => "no display error".into(),
         };
+        let inside = log.inside();
         format!(
-            "pacing: {} + {} on {}, body {}, ticks/frame {}, 0-2 swings {}, {error}",
+            "pacing: {} + {} on {}, body {}, ticks/frame {}, 0-2 swings {}, {error}, inside a \
+             surface {} of {} frames (deepest {:.1} mm)",
             s.policy().name(),
             mode.name(),
             self.ui.panel.frames_note,
             log.body,
             log.cadence(),
             log.swings(),
+            inside.frames,
+            inside.of,
+            inside.deepest * 1e3,
         )
     }
 }

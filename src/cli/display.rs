@@ -73,8 +73,8 @@ pub struct DisplayArgs {
     /// (default: accumulator, volley::pacing::DEFAULT_POLICY).
     #[arg(long, value_name = "NAME")]
     pub policy: Option<String>,
-    /// Start with this draw mode: current, interpolate, extrapolate or predict (default:
-    /// predict, volley::pacing::DEFAULT_DRAW).
+    /// Start with this draw mode: current, interpolate, extrapolate, predict or swept
+    /// (default: swept, volley::pacing::DEFAULT_DRAW).
     #[arg(long, value_name = "MODE")]
     pub draw: Option<String>,
 }

@@ -27,7 +27,7 @@ fn lines() -> Vec<(&'static str, DrawMode)> {
     out
 }
 
-const COLOURS: [RGBColor; 8] = [
+const COLOURS: [RGBColor; 10] = [
     RGBColor(90, 90, 90),
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
@@ -36,6 +36,8 @@ const COLOURS: [RGBColor; 8] = [
     RGBColor(148, 103, 189),
     RGBColor(140, 86, 75),
     RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+    RGBColor(188, 189, 34),
 ];
 
 fn draw<DB: DrawingBackend>(

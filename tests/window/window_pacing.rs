@@ -124,6 +124,8 @@ fn each_draw_mode_places_the_body_where_the_lab_measures_it() {
     assert_eq!(drawn(DrawMode::Interpolate), 0.625);
     assert_eq!(drawn(DrawMode::Extrapolate), 0.875);
     assert_eq!(drawn(DrawMode::Predict), 1.125);
+    // Swept: predict's path, and nothing in the way.
+    assert_eq!(drawn(DrawMode::Swept), 1.125);
     // The times drawn, in ticks: the closed-form ghost sphere goes there.
     let at = |mode| DrawAt {
         mode,
@@ -138,6 +140,40 @@ fn each_draw_mode_places_the_body_where_the_lab_measures_it() {
     // The trail's newest segment reaches the drawn body: 1.5 and 2.5 segments along.
     assert_eq!(at(DrawMode::Extrapolate).trail_alpha(0.0625), 1.5);
     assert_eq!(at(DrawMode::Predict).trail_alpha(0.0625), 2.5);
+    // Swept's trail ends at the tick: its body may have turned at a surface since.
+    assert_eq!(history.drawn_ticks(&sim.world, at(DrawMode::Swept)), 4.5);
+    assert_eq!(at(DrawMode::Swept).trail_alpha(0.0625), 1.0);
+}
+
+#[test]
+fn on_bounce_the_default_draw_never_shows_a_ball_inside_the_ground_or_the_wall() {
+    // Every bundled display model and the shipped capture, 20 s of `bounce` (three balls, the
+    // ground and a wall, a dozen impacts): no frame drawn inside a surface with the default.
+    // Predict, on the same frames, draws balls inside: the count sees what it claims to.
+    let mut displays: Vec<SweepDisplay> = DisplayModel::bundled()
+        .iter()
+        .map(|(name, _)| model(name))
+        .collect();
+    displays.push(shipped_capture());
+    for display in &displays {
+        let frames = 1200.min(display.timing.presents.len());
+        let mut s = session("bounce");
+        assert_eq!(s.draw_mode(), volley::pacing::DEFAULT_DRAW);
+        play(&mut s, display, frames);
+        let inside = s.pacing().inside();
+        assert_eq!(inside.of, frames as u64, "{}", display.name);
+        assert_eq!(inside.frames, 0, "{}: {inside:?}", display.name);
+        let mut p = session("bounce");
+        p.set_draw_mode(DrawMode::Predict);
+        play(&mut p, display, frames);
+        let predicted = p.pacing().inside();
+        if display.name == "60" {
+            // Five ground impacts and two wall hits in 20 s, each drawn past the surface for a
+            // frame or two.
+            assert!(predicted.frames >= 5, "{predicted:?}");
+            assert!(predicted.deepest > 0.05, "{predicted:?}");
+        }
+    }
 }
 
 #[test]
@@ -371,7 +407,11 @@ fn the_window_shows_the_pacing_view_and_the_judder_ghosts_under_an_emulated_disp
         .and_then(|v| v.parse().ok())
         .unwrap_or_else(|| panic!("{line}"));
     assert!(mm > 166.7 && mm < 500.0, "{line}");
-    assert!(line.ends_with("mm at display time"), "{line}");
+    assert!(
+        line.contains("mm at display time, inside a surface 0 of "),
+        "{line}"
+    );
+    assert!(line.ends_with(" frames (deepest 0.0 mm)"), "{line}");
     let (w, h) = (on.width, on.height);
     assert_eq!((w, h), (1280, 800));
     // The pacing view is the bottom panel's right half: its error plot (the right quarter,
@@ -428,4 +468,63 @@ fn a_presentmon_capture_drives_the_window() {
         .unwrap();
     assert_eq!(cadence.len(), 40);
     assert_ne!(cadence, "1".repeat(40), "{line}");
+}
+
+#[test]
+fn the_window_draws_no_ball_inside_the_ground_on_bounce() {
+    // The real window under Xvfb on `bounce` with the default draw, on emulated displays: its
+    // closing line counts the frames that drew some ball inside a surface (from the positions
+    // the window draws). Predict on the same frames draws some there, so the count is live.
+    let test = "the_window_draws_no_ball_inside_the_ground_on_bounce";
+    let shot = std::env::temp_dir().join(format!("volley-{test}.png"));
+    let run = |display: &str, draw: Option<&str>, shot: Option<&std::path::Path>| {
+        let mut args = vec![
+            "window",
+            "bounce",
+            "--exit-after-frames",
+            "300",
+            "--no-watch",
+        ];
+        if let Some(path) = shot {
+            args.extend(["--screenshot", path.to_str().unwrap()]);
+        }
+        let mut pacing = vec!["--display", display];
+        if let Some(mode) = draw {
+            pacing.extend(["--draw", mode]);
+        }
+        let out = crate::window_smoke::under_xvfb_paced(test, &[], &args, "640x400", &pacing)?;
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with("pacing: "))
+            .unwrap_or_else(|| panic!("no pacing line in:\n{stdout}"))
+            .to_string();
+        let count = line
+            .split("inside a surface ")
+            .nth(1)
+            .and_then(|r| r.split(' ').next())
+            .and_then(|n| n.parse::<u64>().ok())
+            .unwrap_or_else(|| panic!("{line}"));
+        Some((line, count))
+    };
+    for display in ["60", "144", "60-misses"] {
+        let Some((line, count)) = run(display, None, (display == "60").then_some(shot.as_path()))
+        else {
+            return;
+        };
+        assert!(line.contains(" + swept on display "), "{line}");
+        assert!(line.contains("inside a surface 0 of "), "{line}");
+        assert_eq!(count, 0);
+    }
+    let Some((line, count)) = run("60", Some("predict"), None) else {
+        return;
+    };
+    assert!(count > 0, "{line}");
+    let image = volley::render::Image::load_png(&shot).unwrap();
+    assert_eq!((image.width, image.height), (640, 400));
 }

@@ -165,6 +165,22 @@ pub fn view(ui: &mut Ui, session: &Session, lane_colour: Color32, out: &mut Vec<
                 "game time minus wall time: the game time the frame was drawn from, against \
                  the wall clock's since the last restart, seek or pause",
             );
+        let inside = log.inside();
+        ui.label(format!(
+            "inside a surface {} of {} frames{}",
+            inside.frames,
+            inside.of,
+            if inside.frames > 0 {
+                format!(", deepest {} mm", significant(inside.deepest * 1e3))
+            } else {
+                String::new()
+            }
+        ))
+        .on_hover_text(
+            "frames that drew some body inside the ground, a wall or a level surface, in the \
+             draw mode of that frame, since the window opened (predict draws a bounce past \
+             the surface; swept never does)",
+        );
     });
     ui.add(egui::Label::new(egui::RichText::new(cadence).monospace().size(9.5)).truncate())
         .on_hover_text(format!(

@@ -201,9 +201,29 @@ pub struct PacingLog {
     /// Whether display times are known (an emulated display) or the error is taken at the
     /// frame's sample.
     pub display_times: bool,
+    /// Every frame measured since the window opened: how many drew a body inside a surface
+    /// (in the draw mode of that frame), and how deep the deepest was.
+    inside: Inside,
+}
+
+/// Frames drawn with a body inside a surface, over the whole run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Inside {
+    /// Frames that drew some body inside a surface.
+    pub frames: u64,
+    /// Frames measured.
+    pub of: u64,
+    /// The deepest any body was drawn inside one (m).
+    pub deepest: f64,
 }
 
 impl PacingLog {
+    /// Frames drawn with a body inside a surface since the window opened: a ball shown in the
+    /// floor. Needs no reference, so every scene has it.
+    pub fn inside(&self) -> Inside {
+        self.inside
+    }
+
     /// The frames kept, oldest first.
     pub fn frames(&self) -> impl ExactSizeIterator<Item = &PacingFrame> + '_ {
         self.frames.iter()
@@ -326,6 +346,11 @@ impl PacingLog {
             inside,
             drift: sampled - truth,
         });
+        self.inside.of += 1;
+        if inside > 0.0 {
+            self.inside.frames += 1;
+            self.inside.deepest = self.inside.deepest.max(inside);
+        }
     }
 
     /// Each draw mode's display error and the selected mode's judder mark, or why there is

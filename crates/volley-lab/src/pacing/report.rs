@@ -112,16 +112,18 @@ pub fn page(
         subject.name(),
         integrator.name(),
     );
+    every_subject(&mut out, rows, rate, integrator);
     let ranking = choose(rows, rate, subject, integrator);
     let _ = writeln!(
         out,
-        "## The default, by the numbers\n\n\
+        "## On the {}\n\n\
          Ranked by the mean p99 display error over the display models (captures excluded); \
          admissible when the mean median latency is no more than the plain accumulator with \
          interpolation and the drift the policy causes (game time plus the time the clock \
          dropped, minus wall time) stays within one tick on every model.\n\n\
          | rank | policy | draw | mean p99 error (mm) | mean latency (ms) | worst drift (ms) | admissible |\n\
-         |---:|---|---|---:|---:|---:|---|"
+         |---:|---|---|---:|---:|---:|---|",
+        subject.name()
     );
     for (i, c) in ranking.iter().enumerate() {
         let _ = writeln!(
@@ -139,12 +141,12 @@ pub fn page(
     if let Some(best) = ranking.first().filter(|c| c.admissible) {
         let _ = writeln!(
             out,
-            "\n**Chosen: `{}` with `{}`.**\n",
+            "\nBest on the {}: `{}` with {}.\n",
+            subject.name(),
             best.policy,
-            best.mode.name()
+            tied(&ranking, best)
         );
     }
-    every_subject(&mut out, rows, rate, integrator);
     let mut rates: Vec<f64> = Vec::new();
     for r in rows {
         if !rates.contains(&r.rate) {
@@ -155,10 +157,11 @@ pub fn page(
         let _ = writeln!(
             out,
             "## Every tick rate\n\n\
-             The same ranking at each tick rate the sweep ran (Bevy's 64 Hz among them): the \
-             first admissible choice, beside the plain accumulator with interpolation.\n\n\
+             The same ranking at each tick rate the sweep ran (Bevy's 64 Hz among them), on \
+             the {}: the first admissible choice, beside the plain accumulator with interpolation.\n\n\
              | tick rate (Hz) | chosen | mean p99 error (mm) | accumulator + interpolate (mm) | \
-             0-2 swings/s, plain accumulator, mean over models |\n|---:|---|---:|---:|---:|"
+             0-2 swings/s, plain accumulator, mean over models |\n|---:|---|---:|---:|---:|",
+            subject.name()
         );
         for &r in &rates {
             let ranking = choose(rows, r, subject, integrator);
@@ -181,9 +184,9 @@ pub fn page(
                 .collect();
             let _ = writeln!(
                 out,
-                "| {r} | `{}` + `{}` | {:.1} | {} | {:.2} |",
+                "| {r} | `{}` + {} | {:.1} | {} | {:.2} |",
                 best.policy,
-                best.mode.name(),
+                tied(&ranking, best),
                 best.p99_error * 1e3,
                 base.map_or("-".to_string(), |b| format!("{:.1}", b.p99_error * 1e3)),
                 swings.iter().sum::<f64>() / swings.len().max(1) as f64,
@@ -280,6 +283,17 @@ pub fn page(
     out
 }
 
+/// The draw modes that score exactly as `best` with its policy, as `a`/`b`: on smooth motion
+/// with nothing to hit, swept is predict bit for bit.
+fn tied(ranking: &[super::sweep::Choice], best: &super::sweep::Choice) -> String {
+    ranking
+        .iter()
+        .filter(|c| c.admissible && c.policy == best.policy && c.p99_error == best.p99_error)
+        .map(|c| format!("`{}`", c.mode.name()))
+        .collect::<Vec<_>>()
+        .join("/")
+}
+
 /// The page's ranking over every subject the sweep ran, and what each draw mode shows through
 /// the discontinuities: frames inside a surface, and the error near them and away from them.
 fn every_subject(out: &mut String, rows: &[Row], rate: f64, integrator: Integrator) {
@@ -297,8 +311,9 @@ fn every_subject(out: &mut String, rows: &[Row], rate: f64, integrator: Integrat
          Ranked by the mean over the subjects of each one's mean p99 display error over the \
          display models, as a ratio to `accumulator` + `predict` on that subject (1.00 is \
          predict's; the subjects' errors differ tenfold, so a plain mean would rank on one). \
-         Admissible: the limits above on every subject, and not one frame drawn inside a \
-         surface on any display, models and captures, with either phase.\n\n\
+         Admissible: the latency and drift limits of the one-subject ranking below on every \
+         subject, and not one frame drawn inside a surface on any display, models and \
+         captures, with either phase.\n\n\
          | rank | policy | draw | score | {} | most frames inside a surface | admissible |\n\
          |---:|---|---|---:|{}---:|---|",
         names.join(" | "),
