@@ -18,7 +18,7 @@
 //! click Aim: high arc  # click the panel's button with this label (its centre)
 //! click 700 300        # click at a position (logical points): on the 3D view it pins the probe
 //! policy snap          # the loop policy (accumulator, snap, snap-avg, quantise, hysteresis)
-//! draw interpolate     # the draw mode (current, interpolate, extrapolate, predict)
+//! draw interpolate     # the draw mode (current, interpolate, extrapolate, predict, swept)
 //! ```
 //!
 //! A key goes through the same mapping as a real key press ([`input::action_for_key`]), so a
@@ -438,7 +438,7 @@ mod tests {
         assert_eq!(e.column, 6, "{e}");
         assert!(
             e.message
-                .contains("current, interpolate, extrapolate, predict"),
+                .contains("current, interpolate, extrapolate, predict, swept"),
             "{e}"
         );
         assert_eq!(

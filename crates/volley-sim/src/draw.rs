@@ -343,9 +343,10 @@ impl Draw {
     }
 
     /// Calls `visit(i, position)` for every body `i` of `world` (storage order) with its drawn
-    /// position under `at`: [`DrawMode::position`] (or [`swept_position`]) from the position before the frame's last
-    /// tick (the current one for a body spawned since), the current position and the current
-    /// velocity (momentum / mass). Ids are sorted in both, so one merge pass pairs them.
+    /// position under `at`: [`DrawMode::position`] (or [`swept_position`]) from the position
+    /// before the frame's last tick (the current one for a body spawned since), the current
+    /// position and the current velocity (momentum / mass). Ids are sorted in both, so one
+    /// merge pass pairs them.
     pub fn drawn(&self, world: &World, at: DrawAt, mut visit: impl FnMut(usize, DVec3)) {
         let bodies = world.bodies();
         let current = bodies.positions();

@@ -6,7 +6,9 @@
 
 use glam::DVec3;
 
-use super::level_contact::{discrete_level_contact, first_level_contact, level_radius};
+use super::level_contact::{
+    discrete_level_contact, first_level_contact, level_radius, touch_limit,
+};
 use super::level_query::Candidates;
 use super::{Aabb, Contacts, MAX_IMPACTS_PER_STEP, Plane, StepContext, Surface, TOUCHING, planes};
 use crate::body::BodyState;
@@ -37,7 +39,7 @@ impl Contacts {
             }
         }
         if let Some((_, depth)) = discrete_level_contact(self, r, p) {
-            let slack = super::level_contact::touch_limit(level_radius(r), p) - level_radius(r);
+            let slack = touch_limit(level_radius(r), p) - level_radius(r);
             if depth > slack {
                 deepest = deepest.max(depth);
             }
@@ -132,11 +134,22 @@ pub(crate) fn straight_path(
     if left > 0.0 {
         p += v * left;
     }
-    // Past the impacts cap (a body wedged in a corner): out of the ground and the levels.
+    // Past the impacts cap (a body wedged in a corner, where each round meets a face it already
+    // touches at no time at all and the rest of the lead is then drawn straight): out of the
+    // ground, and out of the level surfaces by pushing out of the nearest overlapped triangle
+    // in turn. In a concave corner these alternating projections converge on the point outside
+    // both faces (geometrically, by the cosine of the angle between their normals squared).
     if let Some(g) = contacts.ground {
         p.z = p.z.max(g.height + r);
     }
-    if let Some((plane, _)) = discrete_level_contact(contacts, r, p) {
+    for _ in 0..MAX_IMPACTS_PER_STEP {
+        let Some((plane, depth)) = discrete_level_contact(contacts, r, p) else {
+            break;
+        };
+        let slack = touch_limit(level_radius(r), p) - level_radius(r);
+        if depth <= slack {
+            break;
+        }
         p -= plane.distance(p).min(0.0) * plane.normal;
     }
     p
