@@ -316,8 +316,8 @@ fn a_bad_display_policy_or_draw_mode_is_one_line_naming_the_flag_and_what_was_ex
     let line = refused(&["window", "--draw", "sideways"]);
     assert_eq!(
         line,
-        "error: --draw: expected one of current, interpolate, extrapolate, predict, got \
-         `sideways`"
+        "error: --draw: expected one of current, interpolate, extrapolate, predict, swept, \
+         got `sideways`"
     );
     // Virtual frames come from one place.
     let line = refused(&["window", "--display", "60", "--frame-rate", "60"]);
