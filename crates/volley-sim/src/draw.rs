@@ -114,13 +114,37 @@ impl DrawMode {
 /// in a tick comes to rest, as the contact stage's does. It reads the scene only: the world
 /// is not changed and no random number is drawn.
 pub fn swept_position(world: &World, r: f64, cur: DVec3, v: DVec3, tau: f64) -> DVec3 {
-    let contacts = world.contacts();
-    let solid = contacts.ground.is_some() || !contacts.walls.is_empty() || contacts.has_levels();
-    if !solid || tau <= 0.0 {
-        return cur + v * tau;
+    Swept::of(world).position(r, cur, v, tau)
+}
+
+/// What [`DrawMode::Swept`] reads of a world, once a frame rather than once a body: the
+/// surfaces (`None` without a ground, a wall or a level surface) and the rest speed.
+struct Swept<'w> {
+    solid: Option<&'w crate::Contacts>,
+    rest_speed: f64,
+}
+
+impl<'w> Swept<'w> {
+    fn of(world: &'w World) -> Swept<'w> {
+        let contacts = world.contacts();
+        let solid =
+            contacts.ground.is_some() || !contacts.walls.is_empty() || contacts.has_levels();
+        let gravity = world.forces().gravity.map_or(0.0, DVec3::length);
+        Swept {
+            solid: solid.then_some(contacts),
+            rest_speed: gravity * world.dt(),
+        }
     }
-    let gravity = world.forces().gravity.map_or(0.0, DVec3::length);
-    crate::contact::straight_path(contacts, (cur, v), r, tau, gravity * world.dt())
+
+    /// [`swept_position`].
+    fn position(&self, r: f64, cur: DVec3, v: DVec3, tau: f64) -> DVec3 {
+        match self.solid {
+            Some(contacts) if tau > 0.0 => {
+                crate::contact::straight_path(contacts, (cur, v), r, tau, self.rest_speed)
+            }
+            _ => cur + v * tau,
+        }
+    }
 }
 
 /// Volley's default loop policy, chosen by the sweep (`volley pacing`, docs/pacing/report.md)
@@ -186,19 +210,19 @@ pub struct DrawAt {
 
 impl DrawAt {
     /// Where body `i` of `world` is drawn from its position before the frame's last tick, its
-    /// current position and its velocity.
-    fn place(&self, world: &World, i: usize, (before, now, v): (DVec3, DVec3, DVec3)) -> DVec3 {
+    /// current position and its velocity (`swept`: the world's surfaces, read once a frame).
+    fn place(
+        &self,
+        world: &World,
+        swept: &Swept<'_>,
+        i: usize,
+        (before, now, v): (DVec3, DVec3, DVec3),
+    ) -> DVec3 {
         let dt = world.dt();
         match self.mode {
             DrawMode::Swept => {
                 let r = world.bodies().radii()[i];
-                swept_position(
-                    world,
-                    r,
-                    now,
-                    v,
-                    self.mode.offset(self.alpha, dt, self.lead),
-                )
+                swept.position(r, now, v, self.mode.offset(self.alpha, dt, self.lead))
             }
             mode => mode.position(before, now, v, self.alpha, dt, self.lead),
         }
@@ -351,6 +375,7 @@ impl Draw {
         let bodies = world.bodies();
         let current = bodies.positions();
         let prev = &self.previous;
+        let swept = Swept::of(world);
         let mut j = 0;
         for (i, &id) in bodies.ids().iter().enumerate() {
             while j < prev.ids.len() && prev.ids[j] < id {
@@ -365,7 +390,7 @@ impl Draw {
                 DrawMode::Extrapolate | DrawMode::Predict | DrawMode::Swept => bodies.velocity(i),
                 DrawMode::Current | DrawMode::Interpolate => DVec3::ZERO,
             };
-            visit(i, at.place(world, i, (before, now, v)));
+            visit(i, at.place(world, &swept, i, (before, now, v)));
         }
     }
 
@@ -380,7 +405,7 @@ impl Draw {
             Err(_) => now,
         };
         let v = bodies.velocity(i);
-        Some(at.place(world, i, (before, now, v)))
+        Some(at.place(world, &Swept::of(world), i, (before, now, v)))
     }
 
     /// The game time in ticks since tick 0 that a frame drawn at `at` shows: between the tick
