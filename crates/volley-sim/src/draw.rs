@@ -112,36 +112,73 @@ impl DrawMode {
 /// level surfaces ([`Contacts::penetration`](crate::Contacts::penetration) is 0 there), or
 /// `cur + v tau` exactly where the scene has none of them. A bounce slower than gravity's gain
 /// in a tick comes to rest, as the contact stage's does. It reads the scene only: the world
-/// is not changed and no random number is drawn.
+/// is not changed and no random number is drawn. Targets let it through, as they let the
+/// world's bodies ([`AtTargets::PassThrough`]); [`swept_position_at`] chooses.
 pub fn swept_position(world: &World, r: f64, cur: DVec3, v: DVec3, tau: f64) -> DVec3 {
-    Swept::of(world).position(r, cur, v, tau)
+    Swept::of(world, AtTargets::PassThrough).position(r, cur, v, tau)
+}
+
+/// [`swept_position`], with targets met as `at` says.
+pub fn swept_position_at(
+    world: &World,
+    at: AtTargets,
+    r: f64,
+    (cur, v): (DVec3, DVec3),
+    tau: f64,
+) -> DVec3 {
+    Swept::of(world, at).position(r, cur, v, tau)
+}
+
+/// What [`DrawMode::Swept`] draws at a target sphere. The world's targets are sensors: a body
+/// passes through one and the world reports a hit. Whether the body should then be seen past
+/// it is the game's choice, which the draw cannot know.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AtTargets {
+    /// Through it, as the world's bodies go (the default).
+    #[default]
+    PassThrough,
+    /// Stopped on it at the point struck, riding with the target for the rest of the lead: for
+    /// a game that removes a body when it hits a target (a shot), which therefore must not be
+    /// drawn past the hit in the frames before the tick that reports it.
+    Stop,
 }
 
 /// What [`DrawMode::Swept`] reads of a world, once a frame rather than once a body: the
-/// surfaces (`None` without a ground, a wall or a level surface) and the rest speed.
+/// surfaces (`None` without a ground, a wall or a level surface, or a target it stops at), the
+/// rest speed, and when it stops at targets the seconds since tick 0.
 struct Swept<'w> {
     solid: Option<&'w crate::Contacts>,
     rest_speed: f64,
+    targets: Option<f64>,
 }
 
 impl<'w> Swept<'w> {
-    fn of(world: &'w World) -> Swept<'w> {
+    fn of(world: &'w World, at: AtTargets) -> Swept<'w> {
         let contacts = world.contacts();
-        let solid =
-            contacts.ground.is_some() || !contacts.walls.is_empty() || contacts.has_levels();
+        let targets = (at == AtTargets::Stop && !contacts.targets.is_empty())
+            .then(|| world.tick() as f64 * world.dt());
+        let solid = contacts.ground.is_some()
+            || !contacts.walls.is_empty()
+            || contacts.has_levels()
+            || targets.is_some();
         let gravity = world.forces().gravity.map_or(0.0, DVec3::length);
         Swept {
             solid: solid.then_some(contacts),
             rest_speed: gravity * world.dt(),
+            targets,
         }
     }
 
     /// [`swept_position`].
     fn position(&self, r: f64, cur: DVec3, v: DVec3, tau: f64) -> DVec3 {
         match self.solid {
-            Some(contacts) if tau > 0.0 => {
-                crate::contact::straight_path(contacts, (cur, v), r, tau, self.rest_speed)
-            }
+            Some(contacts) if tau > 0.0 => crate::contact::straight_path(
+                contacts,
+                (cur, v),
+                r,
+                (tau, self.rest_speed),
+                self.targets,
+            ),
             _ => cur + v * tau,
         }
     }
@@ -276,6 +313,7 @@ impl DrawAt {
 #[derive(Clone, Debug)]
 pub struct Draw {
     mode: DrawMode,
+    at_targets: AtTargets,
     lead: Lead,
     time_scale: f64,
     previous: Previous,
@@ -307,6 +345,7 @@ impl Draw {
         previous.copy_from(world);
         Draw {
             mode,
+            at_targets: AtTargets::default(),
             lead: Lead::default(),
             time_scale: 1.0,
             previous,
@@ -326,6 +365,12 @@ impl Draw {
     /// Draws in `mode` from the next call on.
     pub fn set_mode(&mut self, mode: DrawMode) {
         self.mode = mode;
+    }
+
+    /// How [`DrawMode::Swept`] meets targets from the next call on (through them, unless
+    /// the game removes a body on its hit: [`AtTargets`]).
+    pub fn set_at_targets(&mut self, at: AtTargets) {
+        self.at_targets = at;
     }
 
     /// Game seconds per wall second (1 unless the game runs slowed or sped up; 0 while
@@ -375,7 +420,7 @@ impl Draw {
         let bodies = world.bodies();
         let current = bodies.positions();
         let prev = &self.previous;
-        let swept = Swept::of(world);
+        let swept = Swept::of(world, self.at_targets);
         let mut j = 0;
         for (i, &id) in bodies.ids().iter().enumerate() {
             while j < prev.ids.len() && prev.ids[j] < id {
@@ -405,7 +450,12 @@ impl Draw {
             Err(_) => now,
         };
         let v = bodies.velocity(i);
-        Some(at.place(world, &Swept::of(world), i, (before, now, v)))
+        Some(at.place(
+            world,
+            &Swept::of(world, self.at_targets),
+            i,
+            (before, now, v),
+        ))
     }
 
     /// The game time in ticks since tick 0 that a frame drawn at `at` shows: between the tick

@@ -252,7 +252,8 @@ pub use contact::{
 };
 pub use drag::{DragTable, DragTableError, Interpolation};
 pub use draw::{
-    DEFAULT_DRAW, DEFAULT_POLICY, Draw, DrawAt, DrawMode, LEAD_WINDOW, Lead, swept_position,
+    AtTargets, DEFAULT_DRAW, DEFAULT_POLICY, Draw, DrawAt, DrawMode, LEAD_WINDOW, Lead,
+    swept_position, swept_position_at,
 };
 pub use exact::{AimError, Arc as LaunchArc};
 pub use firing::{

@@ -16,15 +16,18 @@ use glam::DVec3;
 use volley_sim::internals::body::{BodyId, BodyState};
 use volley_sim::internals::clock::LoopPolicy;
 use volley_sim::internals::command::{Command, Stamped};
+use volley_sim::internals::contact::EventKind;
 use volley_sim::internals::exact::closed_form;
 use volley_sim::internals::forces::Forces;
 use volley_sim::internals::integrate::Integrator;
 use volley_sim::internals::scene::BodySpec;
 use volley_sim::internals::scene::{self, Scene};
-use volley_sim::internals::sim_loop::{LoopError, SimLoop, TickObserver};
+use volley_sim::internals::sim_loop::{LoopError, ObserverError, SimLoop, TickObserver};
 use volley_sim::internals::world::World;
 
-pub use volley_sim::internals::draw::{DrawMode, LEAD_WINDOW, Lead, swept_position};
+pub use volley_sim::internals::draw::{
+    AtTargets, DrawMode, LEAD_WINDOW, Lead, swept_position, swept_position_at,
+};
 
 use super::DisplayTiming;
 use super::metrics::{FrameRecord, Metrics};
@@ -52,6 +55,15 @@ pub enum Subject {
     /// round a 10 m square. What no draw can foresee: its error after each turn is the
     /// misprediction.
     Command,
+    /// Shots at a moving target: a target of radius 0.5 m crossing 40 m downrange at 3 m/s,
+    /// and from a muzzle at the origin a shot of radius 0.1 m every second at 120 m/s with no
+    /// force, aimed ahead so its line meets the target's centre. The game does what a game
+    /// does with a shot: on the world's `Hit` event it stops drawing the shot and despawns it
+    /// at the next tick. A straight shot's hit is a root of a quadratic, so it is exact; from
+    /// the hit the reference is the point struck, riding on the target (where a shot that hit
+    /// belongs until the game removes it), and the target is a surface: a shot drawn inside
+    /// it was drawn through it. The draw knows the game removes shots ([`AtTargets::Stop`]).
+    Target,
 }
 
 /// Gravity in the loop lab's scenes (m/s^2).
@@ -62,16 +74,49 @@ const DROP: (f64, f64) = (0.1, 10.1);
 const WALLS: (f64, f64, f64, f64) = (0.1, 6.0, 0.2, 13.0);
 /// The command subject's speed (m/s) and seconds between turns.
 const TURN: (f64, f64) = (10.0, 1.0);
+/// The target subject's target: radius (m), centre at tick 0 (m) and velocity (m/s).
+const MOVER: (f64, DVec3, DVec3) = (0.5, DVec3::new(40.0, -90.0, 1.0), DVec3::new(0.0, 3.0, 0.0));
+/// The target subject's shots: muzzle (m), radius (m), speed (m/s) and seconds between shots.
+const SHOTS: (DVec3, f64, f64, f64) = (DVec3::new(0.0, 0.0, 1.0), 0.1, 120.0, 1.0);
+
+/// Shot `j` (counted from 1) of the target subject at `rate` ticks per second: the time it is
+/// fired (its spawn tick), its velocity (aimed ahead of the target: the root `T` of
+/// `|c(t_f) - muzzle + u T| = speed T`), and the time it first touches the target.
+fn shot(rate: f64, j: u64) -> (f64, DVec3, f64) {
+    let (radius, c0, u) = MOVER;
+    let (muzzle, r, speed, every) = SHOTS;
+    let fired = (j * (every * rate).round() as u64) as f64 / rate;
+    let d = c0 + u * fired - muzzle;
+    // (u.u - s^2) T^2 + 2 (d.u) T + d.d = 0, with u.u < s^2: one positive root.
+    let (a, b, c) = (
+        u.length_squared() - speed * speed,
+        2.0 * d.dot(u),
+        d.length_squared(),
+    );
+    let lead = (-b - (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
+    let v = (d + u * lead) / lead;
+    // The gap closes along w = v - u from d0 = muzzle - c(t_f): |d0 + w s| = R + r.
+    let (d0, w) = (-d, v - u);
+    let reach = radius + r;
+    let (aa, bb, cc) = (
+        w.length_squared(),
+        d0.dot(w),
+        d0.length_squared() - reach * reach,
+    );
+    let hit = cc / (-bb + (bb * bb - aa * cc).sqrt());
+    (fired, v, fired + hit)
+}
 
 impl Subject {
     /// Every subject: the smooth ones first, then the ones with discontinuities.
-    pub const ALL: [Subject; 6] = [
+    pub const ALL: [Subject; 7] = [
         Subject::Orbit,
         Subject::Shot,
         Subject::Bounce,
         Subject::BounceHalf,
         Subject::Wall,
         Subject::Command,
+        Subject::Target,
     ];
 
     /// The name the tables use.
@@ -83,6 +128,7 @@ impl Subject {
             Subject::BounceHalf => "bounce-0.5",
             Subject::Wall => "wall",
             Subject::Command => "command",
+            Subject::Target => "target",
         }
     }
 
@@ -137,6 +183,15 @@ impl Subject {
                  launch: Velocity(({:?}, 0.0, 0.0)))])",
                 TURN.0
             ),
+            Subject::Target => {
+                let (radius, c, u) = MOVER;
+                format!(
+                    "Scene(name: \"target\", dt: {dt:?}, integrator: VelocityVerlet, forces: [], \
+                     targets: [(center: ({:?}, {:?}, {:?}), radius: {radius:?}, \
+                     velocity: ({:?}, {:?}, {:?}))])",
+                    c.x, c.y, c.z, u.x, u.y, u.z
+                )
+            }
         };
         let mut scene = scene::parse(&text, "pacing.ron", self.name())
             .expect("the loop lab's own scene text is valid");
@@ -158,6 +213,21 @@ impl Subject {
     /// command subject's turns (a new body with the turned velocity where the old one is, at
     /// the exact position of the turn), none for the others.
     pub fn commands(self, rate: f64, seconds: f64) -> Vec<Stamped> {
+        if self == Subject::Target {
+            let every = (SHOTS.3 * rate).round() as u64;
+            return (1..=(seconds / SHOTS.3) as u64)
+                .map(|j| Stamped {
+                    tick: j * every,
+                    command: Command::Spawn(BodySpec {
+                        mass: 1.0,
+                        radius: SHOTS.1,
+                        position: SHOTS.0,
+                        velocity: shot(rate, j).1,
+                        spin: DVec3::ZERO,
+                    }),
+                })
+                .collect();
+        }
         if self != Subject::Command {
             return Vec::new();
         }
@@ -261,7 +331,36 @@ impl Subject {
                 let (p, v) = self.turn(dt, every, j);
                 Some(p + v * (t - j as f64 * leg))
             }
+            // The last shot fired by `t` (none before the first).
+            Subject::Target => {
+                let j = (t * rate / (SHOTS.3 * rate).round()).floor();
+                (j >= 1.0).then(|| Subject::shot_at(rate, j as u64, t))
+            }
         }
+    }
+
+    /// Where shot `j` (from 1) of the target subject is at `t` (s since tick 0): on its line
+    /// until it touches the target, then at the point struck, riding on the target.
+    pub fn shot_at(rate: f64, j: u64, t: f64) -> DVec3 {
+        let (fired, v, hit) = shot(rate, j);
+        let at = |t: f64| SHOTS.0 + v * (t - fired);
+        if t <= hit {
+            at(t)
+        } else {
+            at(hit) + MOVER.2 * (t - hit)
+        }
+    }
+
+    /// How deep a body of radius `r` drawn at `p`, at game time `t` (s since tick 0), is
+    /// inside the target subject's target (m; 0 outside, and for the other subjects, whose
+    /// targets a body passes through), beyond a nanometre of rounding.
+    pub fn inside_target(self, r: f64, p: DVec3, t: f64) -> f64 {
+        if self != Subject::Target {
+            return 0.0;
+        }
+        let (radius, c0, u) = MOVER;
+        let depth = radius + r - (p - (c0 + u * t)).length();
+        if depth > 1e-9 { depth } else { 0.0 }
     }
 
     /// The times (s since tick 0) of the subject's discontinuities up to `until` at `rate`
@@ -302,6 +401,15 @@ impl Subject {
                     j += 1.0;
                 }
             }
+            Subject::Target => {
+                for j in 1.. {
+                    let (fired, _, hit) = shot(rate, j);
+                    if fired > until {
+                        break;
+                    }
+                    out.push(hit);
+                }
+            }
         }
         out
     }
@@ -325,27 +433,40 @@ pub struct RunConfig {
     pub phase: f64,
 }
 
-/// Keeps the state before the frame's last tick, as the window's renderer does.
+/// Keeps the state before the frame's last tick, as the window's renderer does, and the
+/// bodies that hit a target in the frame's ticks (what the target subject's game reacts to).
 struct Before {
-    prev: Vec<BodyState>,
+    prev: Vec<(BodyId, BodyState)>,
+    hits: Vec<BodyId>,
 }
 
 impl TickObserver for Before {
     fn before_last_tick(&mut self, world: &World) {
         self.prev.clear();
+        let bodies = world.bodies();
         self.prev
-            .extend((0..world.bodies().len()).map(|i| world.bodies().state(i)));
+            .extend((0..bodies.len()).map(|i| (bodies.ids()[i], bodies.state(i))));
+    }
+
+    fn after_tick(&mut self, world: &World) -> Result<(), ObserverError> {
+        for e in world.events() {
+            if matches!(e.kind, EventKind::Hit { .. }) && !self.hits.contains(&e.body) {
+                self.hits.push(e.body);
+            }
+        }
+        Ok(())
     }
 }
 
 /// Runs `config` under `timing` and measures every draw mode.
 pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopError> {
-    let scene = config.subject.scene(config.rate, config.integrator);
+    let subject = config.subject;
+    let scene = subject.scene(config.rate, config.integrator);
     let world = World::new(&scene);
     let start: Vec<BodyState> = (0..world.bodies().len())
         .map(|i| world.bodies().state(i))
         .collect();
-    let masses: Vec<f64> = world.bodies().masses().to_vec();
+    let mass = world.bodies().masses().first().copied().unwrap_or(1.0);
     let forces = world.forces().clone();
     let mut sim = SimLoop::new(world);
     sim.clock.set_policy(config.policy);
@@ -354,18 +475,27 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
     let span = timing.presents.last().map_or(0.0, |p| {
         p.shown.unwrap_or(p.sampled).as_secs_f64() - timing.presents[0].sampled.as_secs_f64()
     }) + 1.0;
-    sim.schedule(config.subject.commands(config.rate, span));
+    sim.schedule(subject.commands(config.rate, span));
     // Frames shown this near a discontinuity (a tick and a refresh: what predict draws past
     // one) are the frames around it.
     let refresh = timing
         .median_display_interval()
         .map_or(1.0 / 60.0, |d| d.as_secs_f64());
     let near_window = dt + refresh;
-    let jumps = config.subject.discontinuities(config.rate, span + 1.0);
+    let jumps = subject.discontinuities(config.rate, span + 1.0);
     let first =
         Duration::from_nanos((config.phase.clamp(0.0, 1.0) * timestep.as_nanos() as f64) as u64);
     let mut before = Before {
-        prev: start.clone(),
+        prev: Vec::new(),
+        hits: Vec::new(),
+    };
+    before.before_last_tick(&sim.world);
+    // The target subject's game: a shot that hit is drawn no more, and despawned.
+    let mut hidden: Vec<BodyId> = Vec::new();
+    let at_targets = if subject == Subject::Target {
+        AtTargets::Stop
+    } else {
+        AtTargets::PassThrough
     };
     let mut lead_of = Lead::default();
     let mut records = Vec::with_capacity(timing.presents.len());
@@ -376,6 +506,12 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
     for (present, delta) in timing.presents.iter().zip(timing.deltas(first)) {
         let tick_before = sim.world.tick();
         let ticks = sim.frame(delta, &mut before)?;
+        for id in before.hits.drain(..) {
+            if !hidden.contains(&id) {
+                hidden.push(id);
+                sim.push(Command::Despawn(id));
+            }
+        }
         lead_of.push(delta);
         let lead = lead_of.get().as_secs_f64();
         let wall = present.sampled - origin;
@@ -383,37 +519,22 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
         // first frame was given, against the wall time since the first sample.
         let game = sim.clock.elapsed() + sim.clock.accumulator();
         let drift = game.as_secs_f64() - first.as_secs_f64() - wall.as_secs_f64();
-        let body = 0;
-        let cur = sim.world.bodies().state(body);
-        let v = cur.mv / masses[body];
-        let prev = before.prev.get(body).map_or(cur.p, |s| s.p);
         let shown = present.shown.map(|d| d.saturating_sub(origin));
         // The display time on the game's clock (tick 0 at the first sample, shifted by the
         // phase the first frame started with).
         let display = shown.map(|d| d.as_secs_f64() + first.as_secs_f64());
-        let exact = display.and_then(|t| {
-            let of = (&forces, start[body], masses[body]);
-            config.subject.exact(config.rate, of, t)
-        });
         let near = display.is_some_and(|t| {
             let k = jumps.partition_point(|&j| j < t - near_window);
             jumps.get(k).is_some_and(|&j| j <= t + near_window)
         });
-        let r = sim.world.bodies().radii()[body];
-        let drawn = DrawMode::ALL.map(|m| match m {
-            DrawMode::Swept => {
-                let tau = m.offset(ticks.alpha, dt, lead);
-                swept_position(&sim.world, r, cur.p, v, tau)
-            }
-            m => m.position(prev, cur.p, v, ticks.alpha, dt, lead),
-        });
-        let inside = drawn.map(|p| sim.world.contacts().penetration(p, r));
-        // The game time drawn, on the wall clock (less the first frame's phase), so that
-        // display time minus it is how old what is shown is.
-        let drawn_time = DrawMode::ALL.map(|m| {
-            sim.world.tick() as f64 * dt + m.offset(ticks.alpha, dt, lead) - first.as_secs_f64()
-        });
-        records.push(FrameRecord {
+        // The game time each mode draws, since tick 0.
+        let offsets =
+            DrawMode::ALL.map(|m| sim.world.tick() as f64 * dt + m.offset(ticks.alpha, dt, lead));
+        // The body drawn: the first the game still shows (the target subject's shot may be
+        // between shots, or hit and waiting for its despawn).
+        let bodies = sim.world.bodies();
+        let body = (0..bodies.len()).find(|&i| !hidden.contains(&bodies.ids()[i]));
+        let mut record = FrameRecord {
             wall: wall.as_secs_f64(),
             shown: shown.map(|d| d.as_secs_f64()),
             delta: delta.as_secs_f64(),
@@ -423,12 +544,45 @@ pub fn run(config: &RunConfig, timing: &DisplayTiming) -> Result<Metrics, LoopEr
             alpha: ticks.alpha,
             drift,
             dropped: sim.clock.dropped().as_secs_f64(),
-            drawn,
-            drawn_time,
-            inside,
-            exact,
+            drawn: [DVec3::ZERO; DrawMode::COUNT],
+            // The game time drawn, on the wall clock (less the first frame's phase), so that
+            // display time minus it is how old what is shown is.
+            drawn_time: offsets.map(|t| t - first.as_secs_f64()),
+            inside: [0.0; DrawMode::COUNT],
+            exact: None,
             near,
-        });
+        };
+        if let Some(i) = body {
+            let (id, cur) = (bodies.ids()[i], bodies.state(i));
+            let v = cur.mv / bodies.masses()[i];
+            let r = bodies.radii()[i];
+            let prev = before
+                .prev
+                .iter()
+                .find(|(p, _)| *p == id)
+                .map_or(cur.p, |(_, s)| s.p);
+            record.exact = display.and_then(|t| match subject {
+                // Shot j is body j - 1 (the scene has none; spawns number from 0).
+                Subject::Target => Some(Subject::shot_at(config.rate, id.0 + 1, t)),
+                _ => {
+                    let of = (&forces, *start.first()?, mass);
+                    subject.exact(config.rate, of, t)
+                }
+            });
+            record.drawn = DrawMode::ALL.map(|m| match m {
+                DrawMode::Swept => {
+                    let tau = m.offset(ticks.alpha, dt, lead);
+                    swept_position_at(&sim.world, at_targets, r, (cur.p, v), tau)
+                }
+                m => m.position(prev, cur.p, v, ticks.alpha, dt, lead),
+            });
+            record.inside = std::array::from_fn(|k| {
+                let p = record.drawn[k];
+                let surface = sim.world.contacts().penetration(p, r);
+                surface.max(subject.inside_target(r, p, offsets[k]))
+            });
+        }
+        records.push(record);
     }
     Ok(Metrics::of(&records, sim.clock.dropped().as_secs_f64()))
 }

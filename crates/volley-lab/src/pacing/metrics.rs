@@ -15,8 +15,9 @@
 //!   state includes that tick (ms), over every frame.
 //! - **lag**: display time minus the game time drawn (ms): how old what is shown is.
 //! - **inside**: the frames shown with the drawn body inside a surface (the ground, a wall, a
-//!   level surface), and the deepest it was drawn there (m): a frame a player sees a ball in
-//!   the floor.
+//!   level surface; on the `target` subject, whose game removes a shot that hits, the target
+//!   too), and the deepest it was drawn there (m): a frame a player sees a ball in the floor,
+//!   or a shot through its target.
 //! - **near and far**: the display error of the frames shown within a tick and a refresh of a
 //!   discontinuity (an impact or a command's turn), and of the rest, apart: a bounce is a few
 //!   frames a second, too few to move a p99 over all frames. After a command, the error near

@@ -55,14 +55,20 @@ impl Contacts {
 /// time left, up to the stage's impacts per step. A wall the body is already inside lets it
 /// pass, as the stage's does; targets do not deflect.
 ///
+/// `targets`: where the game removes a body that hits a target, the seconds since tick 0 at
+/// `p`. The path then also ends at the first target sphere it reaches (the target moving at
+/// its velocity), and the body rides on it from there, at the point it struck, for the time
+/// left: the game will not show it past the hit. `None` (the contact stage's view: targets are
+/// sensors) lets the path through them.
+///
 /// The path is straight because the draw it serves extrapolates by the velocity: with no
 /// surface in reach it is exactly `p + v tau`, bit for bit.
 pub(crate) fn straight_path(
     contacts: &Contacts,
     (mut p, mut v): (DVec3, DVec3),
     r: f64,
-    tau: f64,
-    rest_speed: f64,
+    (tau, rest_speed): (f64, f64),
+    targets: Option<f64>,
 ) -> DVec3 {
     let mut left = tau;
     let levels = contacts.has_levels();
@@ -70,6 +76,10 @@ pub(crate) fn straight_path(
         if left <= 0.0 {
             break;
         }
+        // A target struck in this round ends the path unless a surface comes first.
+        let struck =
+            targets.and_then(|since| first_target(contacts, (p, v), r, since + tau - left));
+        let limit = struck.map_or(left, |(at, _)| at.min(left));
         let mut first: Option<(f64, Plane)> = None;
         for plane in planes(contacts, p, r) {
             let rate = plane.normal.dot(v);
@@ -81,12 +91,12 @@ pub(crate) fn straight_path(
                 continue;
             }
             let at = (d0 / -rate).max(0.0);
-            if at < left && first.is_none_or(|(t, _)| at < t) {
+            if at < limit && first.is_none_or(|(t, _)| at < t) {
                 first = Some((at, plane));
             }
         }
         if levels {
-            let cut = first.map_or(left, |(t, _)| t);
+            let cut = first.map_or(limit, |(t, _)| t);
             let end = p + v * cut;
             let state = |q: DVec3| BodyState { p: q, mv: v };
             let grow = 2.0 * level_radius(r) + 8.0 * f64::EPSILON * (1.0 + p.abs().max_element());
@@ -118,6 +128,11 @@ pub(crate) fn straight_path(
             }
         }
         let Some((at, plane)) = first else {
+            if let Some((at, u)) = struck
+                && at < left
+            {
+                return p + v * at + u * (left - at);
+            }
             break;
         };
         p += v * at;
@@ -153,4 +168,38 @@ pub(crate) fn straight_path(
         p -= plane.distance(p).min(0.0) * plane.normal;
     }
     p
+}
+
+/// The first target a body of radius `r` at `p` moving at `v` reaches on its straight line,
+/// `since` seconds after tick 0: the time from now (0 for one it already touches) and the
+/// target's velocity. The gap to a target moving at `u` closes along `w = v - u` from
+/// `d = p - c`: the smaller root of `|d + w s| = R + r`, a quadratic.
+fn first_target(
+    contacts: &Contacts,
+    (p, v): (DVec3, DVec3),
+    r: f64,
+    since: f64,
+) -> Option<(f64, DVec3)> {
+    let mut first: Option<(f64, DVec3)> = None;
+    for target in &contacts.targets {
+        let reach = target.radius + r;
+        let d = p - target.center_at(since);
+        let w = v - target.velocity;
+        let c = d.length_squared() - reach * reach;
+        let at = if c <= 0.0 {
+            0.0
+        } else {
+            let (a, b) = (w.length_squared(), d.dot(w));
+            let disc = b * b - a * c;
+            if b >= 0.0 || disc < 0.0 {
+                continue;
+            }
+            // The smaller root, in the form that does not cancel: c / (-b + sqrt(disc)).
+            c / (-b + disc.sqrt())
+        };
+        if first.is_none_or(|(t, _)| at < t) {
+            first = Some((at, target.velocity));
+        }
+    }
+    first
 }

@@ -118,3 +118,34 @@ fn a_wall_is_inside_from_either_side_of_its_slab() {
     // On the ground to rounding is touching, not inside.
     assert_eq!(c.penetration(DVec3::new(0.0, 0.0, 0.1 - 1e-15), 0.1), 0.0);
 }
+
+#[test]
+fn a_swept_draw_stops_on_a_moving_target_only_for_a_game_that_removes_shots_there() {
+    use volley_sim::{AtTargets, swept_position_at};
+    // A target of radius 0.5 m at (10, -2, 1) at tick 0, moving at 2 m/s along y; a 0.1 m shot
+    // at 20 m/s along x from (0, 0, 1), drawn 1 s past tick 50 (dt 0.01: 0.5 s since tick 0).
+    let mut w = world(
+        "Scene(dt: 0.01, integrator: VelocityVerlet, forces: [], \
+         targets: [(center: (10.0, -2.0, 1.0), radius: 0.5, velocity: (0.0, 2.0, 0.0))])",
+    );
+    w.step_ticks(50).unwrap();
+    let (cur, v) = (DVec3::new(0.0, 0.0, 1.0), DVec3::new(20.0, 0.0, 0.0));
+    // At 0.5 s the target's centre is at (10, -1, 1). The shot closes on it at w = (20, -2, 0)
+    // from d = (-10, 1, 0) = -w / 2, head on: the gap is |w| |s - 1/2|, and reaches the 0.6 m
+    // of the two radii at s = 1/2 - 0.6 / sqrt(404).
+    let s = 0.5 - 0.6 / 404.0f64.sqrt();
+    let struck = cur + v * s;
+    let expected = struck + DVec3::new(0.0, 2.0, 0.0) * (1.0 - s);
+    let p = swept_position_at(&w, AtTargets::Stop, 0.1, (cur, v), 1.0);
+    assert!((p - expected).length() < 1e-12, "{p} vs {expected}");
+    // It rides on the target's surface: the centre 0.6 m from the target's at 1.5 s.
+    let centre = DVec3::new(10.0, -2.0 + 2.0 * 1.5, 1.0);
+    assert!(((p - centre).length() - 0.6).abs() < 1e-12);
+    // Short of the hit, the straight line; through it by default, as the world's bodies go.
+    let short = swept_position_at(&w, AtTargets::Stop, 0.1, (cur, v), 0.2);
+    assert_eq!(short.to_array(), (cur + v * 0.2).to_array());
+    assert_eq!(
+        swept_position(&w, 0.1, cur, v, 1.0).to_array(),
+        (cur + v * 1.0).to_array()
+    );
+}
