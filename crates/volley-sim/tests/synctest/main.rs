@@ -2,4 +2,6 @@
 
 mod basics;
 mod faults;
+#[path = "../../../../benches/common/splice.rs"]
+mod splice;
 mod sweep;

@@ -10,8 +10,10 @@
 //! cargo test --release -p volley-sim --test synctest -- --ignored --nocapture
 //! ```
 //!
-//! `VOLLEY_SYNC_TICKS` changes its length. It takes about an hour on two cores (BENCHMARKS.md,
-//! "Sync test", gives the last run's time).
+//! `VOLLEY_SYNC_TICKS` changes its length. It takes about an hour on two cores. With
+//! `VOLLEY_BENCH_WRITE=BENCHMARKS.md` it writes what it ran (pairs, ticks stepped, the pairs
+//! that ended early on a divergence plain stepping met at the same tick, and its time) into
+//! that file's "sync test sweep" block.
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -38,9 +40,22 @@ fn commands_at(tick: u64, world: &World, fired: &mut Option<volley_sim::BodyId>)
     }
 }
 
+/// How a pair ended: the ticks both sides stepped, and whether they stopped there on the same
+/// divergence (a scene that blows up under an integrator, as it should, alike on both sides).
+#[derive(Clone, Default)]
+struct Ran {
+    label: String,
+    ticks: u64,
+    diverged: bool,
+}
+
 /// Runs `scene` for `ticks` under a sync test (`setup` configures it) and under plain
 /// stepping with the same commands; both must end on the same state, or diverge alike.
-fn run_pair(scene: &Scene, ticks: u64, setup: impl Fn(SyncTest) -> SyncTest) -> Result<(), String> {
+fn run_pair(
+    scene: &Scene,
+    ticks: u64,
+    setup: impl Fn(SyncTest) -> SyncTest,
+) -> Result<Ran, String> {
     let label = format!("{} under {}", scene.name(), scene.integrator());
     let mut sync = setup(SyncTest::new(World::new(scene), 7).expect("7 is in range"));
     let mut plain = World::new(scene);
@@ -58,7 +73,13 @@ fn run_pair(scene: &Scene, ticks: u64, setup: impl Fn(SyncTest) -> SyncTest) -> 
         let stepped = plain.step();
         match sync.advance(&commands) {
             Ok(()) => {}
-            Err(SyncError::Diverged(d)) if stepped == Err(d) => return Ok(()),
+            Err(SyncError::Diverged(d)) if stepped == Err(d) => {
+                return Ok(Ran {
+                    label,
+                    ticks: tick + 1,
+                    diverged: true,
+                });
+            }
             Err(SyncError::Mismatch(m)) => {
                 return Err(format!("{label}: false positive\n{}", m.report(Some(8))));
             }
@@ -76,7 +97,11 @@ fn run_pair(scene: &Scene, ticks: u64, setup: impl Fn(SyncTest) -> SyncTest) -> 
             "{label}: the sync test's world ends elsewhere than plain stepping"
         ));
     }
-    Ok(())
+    Ok(Ran {
+        label,
+        ticks,
+        diverged: false,
+    })
 }
 
 /// Every bundled scene under every integrator it allows.
@@ -105,18 +130,22 @@ fn length(scene: &Scene, ticks: u64, big: u64, huge: u64) -> u64 {
 
 /// Runs every pair on one plain thread per core (not rayon's workers: a worker waiting for
 /// the re-runs' pool would run another pair on top of its stack).
-fn sweep(ticks: u64, big: u64, huge: u64, setup: impl Fn(SyncTest) -> SyncTest + Sync) {
+fn sweep(ticks: u64, big: u64, huge: u64, setup: impl Fn(SyncTest) -> SyncTest + Sync) -> Vec<Ran> {
     let pairs = pairs();
     assert!(pairs.len() > 150, "{} pairs", pairs.len());
     let next = AtomicUsize::new(0);
     let failures = Mutex::new(Vec::new());
+    let ran = Mutex::new(vec![Ran::default(); pairs.len()]);
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     std::thread::scope(|s| {
         for _ in 0..cores {
             s.spawn(|| {
-                while let Some(scene) = pairs.get(next.fetch_add(1, Ordering::Relaxed)) {
-                    if let Err(e) = run_pair(scene, length(scene, ticks, big, huge), &setup) {
-                        failures.lock().expect("not poisoned").push(e);
+                loop {
+                    let k = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(scene) = pairs.get(k) else { break };
+                    match run_pair(scene, length(scene, ticks, big, huge), &setup) {
+                        Ok(r) => ran.lock().expect("not poisoned")[k] = r,
+                        Err(e) => failures.lock().expect("not poisoned").push(e),
                     }
                 }
             });
@@ -124,11 +153,13 @@ fn sweep(ticks: u64, big: u64, huge: u64, setup: impl Fn(SyncTest) -> SyncTest +
     });
     let failures = failures.into_inner().expect("not poisoned");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+    ran.into_inner().expect("not poisoned")
 }
 
 #[test]
 fn every_bundled_scene_under_every_integrator_passes() {
-    sweep(300, 30, 4, |s| s);
+    let ran = sweep(300, 30, 4, |s| s);
+    assert!(ran.iter().all(|r| r.ticks > 0));
 }
 
 #[test]
@@ -148,10 +179,31 @@ fn every_bundled_scene_under_every_integrator_passes_for_1e5_ticks() {
         .and_then(|t| t.parse().ok())
         .unwrap_or(100_000);
     let start = std::time::Instant::now();
-    sweep(ticks, ticks, ticks, |s| s);
-    eprintln!(
-        "sync test sweep: {} pairs x {ticks} ticks at K = 7 in {:.0} s",
-        pairs().len(),
-        start.elapsed().as_secs_f64()
+    let ran = sweep(ticks, ticks, ticks, |s| s);
+    let seconds = start.elapsed().as_secs_f64();
+    let early: Vec<String> = ran
+        .iter()
+        .filter(|r| r.diverged)
+        .map(|r| format!("{} (tick {})", r.label, r.ticks))
+        .collect();
+    let block = format!(
+        "{BEGIN}\n\n`cargo test --release -p volley-sim --test synctest -- --ignored` (K = 7, \
+         the commands of every kind each scene takes, on {} threads): {} pairs of a bundled \
+         scene and an integrator it allows, {ticks} ticks each, {} ticks stepped under the \
+         sync test in all, 0 false positives, and every pair's world at the end equal to plain \
+         stepping's, byte for byte. {} pairs stopped early, at a divergence plain stepping met \
+         at the same tick with the same cause (a scene that blows up under an integrator too \
+         crude for it, or a guard's stop): {}. Time: {seconds:.0} s.\n\n{END}\n",
+        std::thread::available_parallelism().map_or(1, |n| n.get()),
+        ran.len(),
+        ran.iter().map(|r| r.ticks).sum::<u64>(),
+        early.len(),
+        early.join(", "),
     );
+    eprint!("{block}");
+    crate::splice::write_if_asked(&block, BEGIN, END);
 }
+
+const BEGIN: &str =
+    "<!-- BEGIN synctest sweep: generated by the ignored sweep test, do not edit by hand -->";
+const END: &str = "<!-- END synctest sweep -->";

@@ -494,3 +494,42 @@ mod tests {
         assert!(skipped > 0, "no search was skipped");
     }
 }
+
+#[cfg(test)]
+mod probe {
+    #[test]
+    #[ignore]
+    fn probe_busy_window() {
+        let text = "Scene(dt: 0.016666667, integrator: Rk4, forces: [Gravity((0.0, 0.0, -9.81))],
+               launcher: (position: (0.0, 0.0, 1.0), speed: 20.0, elevation_deg: 45.0,
+                          azimuth_deg: 0.0, mass: 1.0, radius: 0.1),
+               volley: (count: 10000, speed_spread: 2.0, angle_spread_deg: 5.0),
+               seed: 6, guard: (every: 0), events: [(when: Altitude(5.0)), (when: Apex), (when: Downrange(20.0)), (when: Speed(15.0))])";
+        let scene = crate::parse_scene(text, "t", "t").unwrap();
+        let mut w = crate::World::new(&scene);
+        w.step_ticks(60).unwrap();
+        let mut total = 0;
+        let mut evs = 0;
+        for t in 0..30 {
+            let step = w.tick();
+            let n = (0..w.bodies().len())
+                .filter(|&i| w.scratch.due.len() == 0 || w.scratch.due.get(i) <= step)
+                .count();
+            w.step().unwrap();
+            total += n;
+            evs += w.events().len();
+            let mut kinds = std::collections::BTreeMap::new();
+            for e in w.events() {
+                *kinds
+                    .entry(format!("{:?}", e.kind).chars().take(30).collect::<String>())
+                    .or_insert(0) += 1;
+            }
+            eprintln!(
+                "tick {t}: due {n} events {} dl {}",
+                w.events().len(),
+                w.scratch.due.len()
+            );
+        }
+        eprintln!("total due {total} events {evs}");
+    }
+}
