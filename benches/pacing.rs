@@ -112,6 +112,23 @@ fn draw_once(world: &World, mode: DrawMode, at: AtTargets) -> f64 {
     ns
 }
 
+/// `subject` at 60 Hz under the plain accumulator on the bundled 60 Hz display for 60 s.
+fn at_60(subject: Subject) -> volley::pacing::Metrics {
+    run(
+        &RunConfig {
+            subject,
+            rate: 60.0,
+            integrator: Integrator::VelocityVerlet,
+            policy: LoopPolicy::Accumulator,
+            phase: 0.0,
+        },
+        &DisplayModel::named("60")
+            .expect("a bundled display")
+            .timing("60", 60.0),
+    )
+    .expect("the loop lab's subjects run")
+}
+
 fn main() {
     let build = if cfg!(debug_assertions) {
         "DEBUG build"
@@ -166,36 +183,12 @@ fn main() {
         }
     }
     let target_ns = target_times.map(|mut t| median(&mut t));
-    let shot = run(
-        &RunConfig {
-            subject: Subject::Target,
-            rate: 60.0,
-            integrator: Integrator::VelocityVerlet,
-            policy: LoopPolicy::Accumulator,
-            phase: 0.0,
-        },
-        &DisplayModel::named("60")
-            .expect("a bundled display")
-            .timing("60", 60.0),
-    )
-    .expect("the target subject runs");
+    let shot = at_60(Subject::Target);
     let draw_ns: Vec<Vec<f64>> = draw_times
         .iter_mut()
         .map(|w| w.iter_mut().map(|t| median(t)).collect())
         .collect();
-    let bounce = run(
-        &RunConfig {
-            subject: Subject::Bounce,
-            rate: 60.0,
-            integrator: Integrator::VelocityVerlet,
-            policy: LoopPolicy::Accumulator,
-            phase: 0.0,
-        },
-        &DisplayModel::named("60")
-            .expect("a bundled display")
-            .timing("60", 60.0),
-    )
-    .expect("the bounce subject runs");
+    let bounce = at_60(Subject::Bounce);
     let reaching = {
         let w = &worlds[0];
         let mut draw = Draw::new(w, DrawMode::Predict);

@@ -157,10 +157,7 @@ impl<'w> Swept<'w> {
         let contacts = world.contacts();
         let targets = (at == AtTargets::Stop && !contacts.targets.is_empty())
             .then(|| world.tick() as f64 * world.dt());
-        let solid = contacts.ground.is_some()
-            || !contacts.walls.is_empty()
-            || contacts.has_levels()
-            || targets.is_some();
+        let solid = contacts.has_solids() || targets.is_some();
         let gravity = world.forces().gravity.map_or(0.0, DVec3::length);
         Swept {
             solid: solid.then_some(contacts),

@@ -326,10 +326,13 @@ impl PacingLog {
             alpha,
             lead: self.lead,
         };
-        let radii = world.bodies().radii();
-        lane.history.drawn(world, drawn_at, |i, p| {
-            inside = inside.max(world.contacts().penetration(p, radii[i]));
-        });
+        // Only a solid surface can hold a drawn body (the scenes without one skip the draw).
+        if world.contacts().has_solids() {
+            let radii = world.bodies().radii();
+            lane.history.drawn(world, drawn_at, |i, p| {
+                inside = inside.max(world.contacts().penetration(p, radii[i]));
+            });
+        }
         if let Some(mark) = mark {
             if self.judder.len() == JUDDER_FRAMES {
                 self.judder.remove(0);

@@ -272,6 +272,22 @@ impl Subject {
         (p, velocity(j))
     }
 
+    /// The bounce subjects' impacts at `rate` ticks per second, in order: each one's time and
+    /// the speed the ball leaves the ground at, 0 at the impact whose rebound is slower than
+    /// gravity's gain in a tick, where the sim rests it and the list ends.
+    fn impacts(self, rate: f64) -> impl Iterator<Item = (f64, f64)> {
+        let (r, z0) = DROP;
+        let e = self.restitution();
+        let fall = (2.0 * (z0 - r) / G).sqrt();
+        let mut next = Some((fall, G * fall * e));
+        std::iter::from_fn(move || {
+            let (at, u) = next?;
+            let u = if u <= G / rate { 0.0 } else { u };
+            next = (u > 0.0).then(|| (at + 2.0 * u / G, e * u));
+            Some((at, u))
+        })
+    }
+
     /// The exact position at game time `t` (s since tick 0) at `rate` ticks per second, from
     /// the scene's start `start` under its `forces`: the closed form for the smooth subjects,
     /// and for the others the closed form between the discontinuities, which are exact (a
@@ -286,31 +302,26 @@ impl Subject {
             Subject::Orbit | Subject::Shot => closed_form(forces, start, mass, t).map(|s| s.p),
             Subject::Bounce | Subject::BounceHalf => {
                 let (r, z0) = DROP;
-                let e = self.restitution();
-                let fall = (2.0 * (z0 - r) / G).sqrt();
-                let mut u = G * fall; // speed at each impact
-                if t <= fall {
+                let arc =
+                    |tau: f64, u: f64| DVec3::new(0.0, 0.0, r + u * tau - 0.5 * G * tau * tau);
+                let mut impacts = self.impacts(rate);
+                let (first, u) = impacts.next()?;
+                if t <= first {
                     return Some(DVec3::new(0.0, 0.0, z0 - 0.5 * G * t * t));
                 }
-                let mut at = fall;
-                // The sim rests once a rebound is slower than gravity's gain in a tick.
-                let rest = G / rate;
-                loop {
-                    u *= e;
-                    if u <= rest {
+                if self.restitution() == 1.0 && u > 0.0 {
+                    // Every flight the same: the one `t` falls in, by the remainder.
+                    return Some(arc((t - first) % (2.0 * u / G), u));
+                }
+                for (at, u) in std::iter::once((first, u)).chain(impacts) {
+                    if u == 0.0 {
                         return Some(DVec3::new(0.0, 0.0, r));
                     }
-                    let flight = 2.0 * u / G;
-                    if e == 1.0 {
-                        let tau = (t - at) % flight;
-                        return Some(DVec3::new(0.0, 0.0, r + u * tau - 0.5 * G * tau * tau));
+                    if t <= at + 2.0 * u / G {
+                        return Some(arc(t - at, u));
                     }
-                    if t <= at + flight {
-                        let tau = t - at;
-                        return Some(DVec3::new(0.0, 0.0, r + u * tau - 0.5 * G * tau * tau));
-                    }
-                    at += flight;
                 }
+                None
             }
             Subject::Wall => {
                 let (r, x, thick, v) = WALLS;
@@ -370,18 +381,11 @@ impl Subject {
         match self {
             Subject::Orbit | Subject::Shot => {}
             Subject::Bounce | Subject::BounceHalf => {
-                let (r, z0) = DROP;
-                let e = self.restitution();
-                let mut at = (2.0 * (z0 - r) / G).sqrt();
-                let mut u = G * at;
-                while at <= until {
-                    out.push(at);
-                    u *= e;
-                    if u <= G / rate {
-                        break;
-                    }
-                    at += 2.0 * u / G;
-                }
+                out.extend(
+                    self.impacts(rate)
+                        .map(|(at, _)| at)
+                        .take_while(|&at| at <= until),
+                );
             }
             Subject::Wall => {
                 let (r, x, thick, v) = WALLS;

@@ -109,6 +109,13 @@ impl Contacts {
             && self.events.is_empty()
     }
 
+    /// Whether the scene has something a body cannot be inside: a ground, a wall, a mesh or a
+    /// heightfield (targets are sensors). Without one, [`Contacts::penetration`] is 0 wherever
+    /// a body is drawn.
+    pub fn has_solids(&self) -> bool {
+        self.ground.is_some() || !self.walls.is_empty() || self.has_levels()
+    }
+
     /// Whether the scene has something to hit: a ground, a wall, a target, a mesh or a
     /// heightfield (declared events are not).
     pub fn has_surfaces(&self) -> bool {
