@@ -150,11 +150,13 @@ fn first_difference(a: &[(Stage, u64)], b: &[(Stage, u64)]) -> Option<usize> {
 /// A re-run of a check's window, borrowing what it needs from the sync test.
 pub(super) struct Rerun<'a> {
     pub(super) world: &'a mut World,
-    pub(super) frames: &'a std::collections::VecDeque<Frame>,
+    pub(super) frames: &'a std::collections::VecDeque<Box<Frame>>,
     pub(super) first_commands: &'a [Command],
     pub(super) first_stages: &'a [(Stage, u64)],
     pub(super) first_hash: u64,
     pub(super) staged: bool,
+    /// Whether the first run applied commands at some tick of the window.
+    pub(super) commands: bool,
     pub(super) hook: Option<&'a mut StageHook>,
     pub(super) buffers: &'a mut StageBuffers,
     pub(super) log: &'a mut Vec<(Stage, u64)>,
@@ -175,6 +177,21 @@ impl Rerun<'_> {
                     rerun: vec![(Stage::Restore, h)],
                 });
             }
+        }
+        if !self.staged && !self.commands {
+            // Nothing but steps: the loop a check runs almost every tick.
+            for j in from..end {
+                let _ = self.world.step();
+                if let Some(d) = self.world.divergence()
+                    && j + 1 < end
+                {
+                    return Some(Early::Diverged {
+                        tick: j + 1,
+                        divergence: d,
+                    });
+                }
+            }
+            return None;
         }
         for j in from..end {
             let (commands, expected) = if j == from {
