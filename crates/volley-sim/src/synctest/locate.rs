@@ -182,13 +182,8 @@ impl Rerun<'_> {
             // Nothing but steps: the loop a check runs almost every tick.
             for j in from..end {
                 let _ = self.world.step();
-                if let Some(d) = self.world.divergence()
-                    && j + 1 < end
-                {
-                    return Some(Early::Diverged {
-                        tick: j + 1,
-                        divergence: d,
-                    });
+                if let Some(e) = early_divergence(self.world, j, end) {
+                    return Some(e);
                 }
             }
             return None;
@@ -225,17 +220,24 @@ impl Rerun<'_> {
                 }
                 let _ = self.world.step();
             }
-            if let Some(d) = self.world.divergence()
-                && j + 1 < end
-            {
-                return Some(Early::Diverged {
-                    tick: j + 1,
-                    divergence: d,
-                });
+            if let Some(e) = early_divergence(self.world, j, end) {
+                return Some(e);
             }
         }
         None
     }
+}
+
+/// What stops a re-run after its tick `j`: a divergence, unless `j` is the window's last tick
+/// (`end - 1`), whose state (divergence included) the check compares with the first run's.
+fn early_divergence(world: &World, j: u64, end: u64) -> Option<Early> {
+    world
+        .divergence()
+        .filter(|_| j + 1 < end)
+        .map(|d| Early::Diverged {
+            tick: j + 1,
+            divergence: d,
+        })
 }
 
 /// Which of the two runs a search runs: as the first run ran, or as the re-runs ran.
