@@ -181,17 +181,13 @@ pub(super) fn swap(world: &mut World, f: &mut Frame, epochs: &Epochs, world_epoc
     frame_epoch
 }
 
-/// What every restore ends with: `1 / mass` as at spawn if the masses were replaced, no
-/// divergence, no events, and the declared events' caches void, as
-/// [`World::restore`] leaves them (their horizons: each body is searched at its next step).
+/// What every restore ends with: `1 / mass` as at spawn if the masses were replaced, then
+/// what [`World::restore`] resets ([`World::reset_after_restore`]).
 fn finish_restore(world: &mut World, masses_replaced: bool) {
     if masses_replaced {
         world.state.bodies.recompute_inv_mass();
     }
-    world.halt = crate::world::Halt::Running;
-    world.scratch.events.clear();
-    world.scratch.fresh.clear();
-    world.scratch.due.clear();
+    world.reset_after_restore();
 }
 
 /// The full [`State`] of frame `f` into `out` (reusing its buffers), as a keyframe holds it.
@@ -236,10 +232,7 @@ fn same_column(a: &[f64], b: &[f64]) -> bool {
 #[inline]
 fn bits_differ(a: &[f64], b: &[f64]) -> u64 {
     if a.len() < SHORT_COLUMN {
-        return a
-            .iter()
-            .zip(b)
-            .fold(0u64, |acc, (x, y)| acc | (x.to_bits() ^ y.to_bits()));
+        return bits_differ_plain(a, b);
     }
     #[cfg(target_arch = "x86_64")]
     {
@@ -274,25 +267,18 @@ fn bits_differ_lanes(a: &[f64], b: &[f64]) -> u64 {
             lanes[k] |= x[k].to_bits() ^ y[k].to_bits();
         }
     }
-    ra.iter()
-        .zip(rb)
+    bits_differ_plain(ra, rb) | lanes.iter().fold(0, |acc, l| acc | l)
+}
+
+/// One value at a time: short columns, and the lanes' remainder.
+#[inline(always)]
+fn bits_differ_plain(a: &[f64], b: &[f64]) -> u64 {
+    a.iter()
+        .zip(b)
         .fold(0u64, |acc, (x, y)| acc | (x.to_bits() ^ y.to_bits()))
-        | lanes.iter().fold(0, |acc, l| acc | l)
 }
 
 fn same_vec3s(a: &Vec3s, b: &Vec3s) -> bool {
-    let n = a.x.len();
-    if n < SHORT_COLUMN && b.x.len() == n && a.y.len() == n && b.y.len() == n {
-        // A few bodies: the three columns in one loop, as one call.
-        let differ = (0..n.min(a.z.len()).min(b.z.len())).fold(0u64, |acc, i| {
-            acc | (a.x[i].to_bits() ^ b.x[i].to_bits())
-                | (a.y[i].to_bits() ^ b.y[i].to_bits())
-                | (a.z[i].to_bits() ^ b.z[i].to_bits())
-        });
-        if differ == 0 && a.z.len() == n && b.z.len() == n {
-            return true;
-        }
-    }
     same_column(&a.x, &b.x) && same_column(&a.y, &b.y) && same_column(&a.z, &b.z)
 }
 

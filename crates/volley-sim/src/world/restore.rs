@@ -111,11 +111,18 @@ impl World {
         self.state.assign_from(s, true);
         self.facts = super::ForceFacts::of(&self.state.forces);
         self.carry_valid = !s.carry.is_empty();
+        self.reset_after_restore();
+        Ok(())
+    }
+
+    /// What every restore ends with, this one's and the sync test's ring: no divergence, no
+    /// events, and the declared events' caches void (their horizons: each body is searched at
+    /// its next step).
+    pub(crate) fn reset_after_restore(&mut self) {
         self.scratch.events.clear();
         self.halt = super::Halt::Running;
         self.scratch.fresh.clear();
         self.scratch.due.clear();
-        Ok(())
     }
 }
 

@@ -99,7 +99,7 @@ fn run_pair(
     ticks: u64,
     setup: impl Fn(SyncTest) -> SyncTest,
 ) -> Result<Ran, String> {
-    let label = format!("{} under {}", scene.name(), scene.integrator());
+    let label = label(scene);
     let start = std::time::Instant::now();
     let mut sync = setup(SyncTest::new(World::new(scene), 7).expect("7 is in range"));
     let mut plain = World::new(scene);
@@ -150,6 +150,11 @@ fn run_pair(
     })
 }
 
+/// A pair's name in reports and the sweep's log: `scene under integrator`.
+fn label(scene: &Scene) -> String {
+    format!("{} under {}", scene.name(), scene.integrator())
+}
+
 /// Every bundled scene under every integrator it allows.
 fn pairs() -> Vec<Scene> {
     let mut out = Vec::new();
@@ -194,7 +199,7 @@ fn sweep(
         let text = std::fs::read_to_string(path).unwrap_or_default();
         let logged: Vec<Ran> = text.lines().filter_map(|l| Ran::parse(l, ticks)).collect();
         for (k, scene) in pairs.iter().enumerate() {
-            let label = format!("{} under {}", scene.name(), scene.integrator());
+            let label = label(scene);
             done[k] = logged.iter().find(|r| r.label == label).cloned();
         }
     }
