@@ -10,12 +10,18 @@
 //! `(V + a tau) tau`). So from a body's state after a step:
 //! - a plane's function `g = n . P - d` is the quadratic `g0 + (n . V0) t + (n . a) t^2 / 2`
 //!   within `|n . a| (h t + 3 h^2)` (twice the Euler schemes' stray and more);
-//! - the apex's `V.z` is `V0.z + a.z t`, a speed `|V0 + a t| - s`, each within `|a| h / 2`;
+//! - the apex's `V.z` is `V0.z + a.z t`, a speed `|V0 + a t| - s`, exactly: every scheme's
+//!   velocity moves by `a tau` over a (partial) step under a constant field, the Euler schemes'
+//!   too;
 //! - each within a further millionth of the sizes involved, for rounding (a search resolves
 //!   rounding at a few ulps, and the state's own rounding drifts by an ulp or so a step).
 //!
 //! The first time any of them could come within that band of zero is the first root of a
-//! quadratic; the whole steps before it, less one, are skipped.
+//! quadratic; the whole steps before it are skipped. At the end of the last of them the
+//! function is still the band from zero, a millionth of its sizes, which no rounding of the
+//! time or of the state over [`MAX_STEPS`] steps reaches. (A half-step band on the velocity
+//! and one step fewer, as this first shipped, searched each body about three times per event
+//! in a busy window; now once or twice.)
 //!
 //! The Mach number (the air changes with height) and the closest approach (its function is a
 //! product) get no horizon: a world that declares one searches every body every step, as it
@@ -225,13 +231,13 @@ pub(crate) fn quiet_steps(
                 }
             }
             Test::Apex => {
-                let band = 0.5 * a.z.abs() * h + ROUNDING * v.abs().max_element();
+                let band = ROUNDING * v.abs().max_element();
                 time_to_band(v.z, a.z, 0.0, band)
             }
             Test::Speed(speed) => {
                 // |V0 + a t|^2 = u0^2 + 2 (V0 . a) t + |a|^2 t^2 against (speed -+ band)^2.
                 let u0 = v.length();
-                let band = 0.5 * a.length() * h + ROUNDING * (u0 + speed.abs());
+                let band = ROUNDING * (u0 + speed.abs());
                 let (c1, c2) = (2.0 * v.dot(a), a.length_squared());
                 if u0 > speed + band {
                     let edge = speed + band;
@@ -250,8 +256,10 @@ pub(crate) fn quiet_steps(
             return 0;
         }
     }
-    // Whole steps inside `t`, one fewer for the step's own rounding of time.
-    let steps = (t / h).floor() - 1.0;
+    // Whole steps inside `t`: at the end of the last of them the function is still a band
+    // (a millionth of its sizes) from zero, more than any rounding of `t / h` or of the
+    // state over the steps skipped (an ulp or so a step, at most `MAX_STEPS`).
+    let steps = (t / h).floor();
     if steps >= MAX_STEPS as f64 {
         MAX_STEPS
     } else if steps >= 1.0 {
@@ -297,8 +305,8 @@ mod tests {
             h,
         );
         // 0.05 m at 1 m/s is 5 steps; the rounding allowance (6e-8 m) leaves 4.99999, whose
-        // floor less one is 3.
-        assert_eq!(q, 3);
+        // floor is 4.
+        assert_eq!(q, 4);
     }
 
     #[test]
@@ -323,7 +331,7 @@ mod tests {
     }
 
     #[test]
-    fn an_apex_is_quiet_for_the_rise_less_half_a_step() {
+    fn an_apex_is_quiet_for_the_whole_steps_of_the_rise() {
         // 9.81 m/s up under 9.81 m/s^2: the apex is 1 s away.
         let s = BodyState {
             p: DVec3::ZERO,
@@ -338,9 +346,9 @@ mod tests {
             DVec3::new(0.0, 0.0, -9.81),
             h,
         );
-        // 1 s to the apex, less the band (half a step of |a| h, and rounding): 0.995 s, 99.5
-        // steps, whose floor less one is 98.
-        assert_eq!(q, 98);
+        // 1 s to the apex, less the band (a millionth of the velocity): 0.999999 s, 99.9999
+        // steps, whose floor is 99: the step that ends on the apex is searched.
+        assert_eq!(q, 99);
     }
 
     /// Runs `scene` for `ticks` with and without horizons, `commands` applied before the ticks
@@ -394,6 +402,34 @@ mod tests {
             // The bench's volley is quiet most of its flight: the horizons skip most searches.
             assert!(
                 skipped > 200 * 240 / 2,
+                "{integrator}: skipped only {skipped}"
+            );
+        }
+    }
+
+    /// The bands' edges: apexes exactly on tick boundaries (8 m/s^2 and ticks of 1/64 s, so
+    /// the apex time `vz / 8` is a whole tick), and speed events whose threshold is the
+    /// minimum speed, at the apex (a tangent on a tick boundary), or a few ulps above or below
+    /// it, under every integrator: the search with horizons finds what the full search finds.
+    #[test]
+    fn horizons_keep_tangents_and_roots_on_tick_boundaries() {
+        for integrator in crate::Integrator::ALL {
+            let bodies: Vec<String> = (0..16)
+                .map(|k| {
+                    let vx = 15.0 + [0.0, 1e-13, -1e-13, 4e-15][k % 4];
+                    let vz = (8 + k) as f64 / 8.0;
+                    format!("(mass: 1, position: (0, 0, 0), launch: Velocity(({vx:?}, 0, {vz:?})))")
+                })
+                .collect();
+            let scene = format!(
+                "Scene(dt: 0.015625, integrator: {integrator:?},
+                       forces: [Gravity((0.0, 0.0, -8.0))], bodies: [{}],
+                       events: [(when: Apex), (when: Speed(15.0)), (when: Altitude(0.25))])",
+                bodies.join(", ")
+            );
+            let skipped = same_with_and_without(&scene, 80, &[]);
+            assert!(
+                skipped > 16 * 80 / 2,
                 "{integrator}: skipped only {skipped}"
             );
         }
