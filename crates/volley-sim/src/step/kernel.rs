@@ -482,7 +482,7 @@ fn run_events_apart<S: Scheme, const STREAMING: bool>(
     // with one load, and its bound is set again here once its bodies are searched; the bodies
     // of a block shared with the next chunk are looked at one by one.
     let due = &hz.due[l.offset..l.offset + n];
-    let mut starts: Vec<(usize, BodyState, DVec3)> = Vec::new();
+    let mut starts: Vec<(usize, BodyState, DVec3)> = Vec::with_capacity(n);
     let mut rebound: Vec<usize> = Vec::new();
     let mut i = 0;
     while i < n {

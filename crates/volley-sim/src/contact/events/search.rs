@@ -32,6 +32,8 @@
 //! the point nearest zero. Two opposite crossings with nothing between them farther from zero
 //! than rounding are the same touch, sampled on both sides: reported once, as a graze.
 
+use std::cell::RefCell;
+
 use glam::DVec3;
 
 use super::{EventDirection, EventSet, Test};
@@ -275,8 +277,10 @@ struct Search<'a, S> {
     /// Touches: pieces whose bound came within rounding of zero without a sign change, each at
     /// its end nearest zero.
     touches: &'a mut Vec<PathPoint>,
-    /// Every value looked at: `(tau, sigma g)`.
+    /// Every value looked at, `(tau, sigma g)`, when `record` (a round that follows a
+    /// crossing, which may merge with it into a graze; no other round reads them).
     seen: &'a mut Vec<(f64, f64)>,
+    record: bool,
 }
 
 impl<S: Scheme> Search<'_, S> {
@@ -318,7 +322,9 @@ impl<S: Scheme> Crossing for Search<'_, S> {
             * self
                 .test
                 .value(self.seg.since + tau, s, self.seg.body.w.inv);
-        self.seen.push((tau, v));
+        if self.record {
+            self.seen.push((tau, v));
+        }
         v
     }
 
@@ -367,6 +373,21 @@ struct Found {
     s: BodyState,
     direction: EventDirection,
     graze: bool,
+}
+
+/// The buffers a search fills, kept per thread and reused: a busy window searches a third of
+/// its body-steps, and growing fresh vectors for each cost as much as the search (callgrind,
+/// 1e4 bodies through the apex). Each use starts by clearing them, so nothing passes from one
+/// search to the next: they are capacity, not state.
+#[derive(Debug, Default)]
+struct Scratch {
+    found: Vec<Found>,
+    touches: Vec<PathPoint>,
+    seen: Vec<(f64, f64)>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::default();
 }
 
 /// Looks for every declared event on `seg` and pushes each one that counts to `out`, in time
@@ -424,49 +445,59 @@ pub(crate) fn on_segment<S: Scheme>(
                 continue;
             }
         }
-        let mut found = crossings(scheme, &watch.test, seg, (ga, gb), path);
-        if on_zero && seg.fresh {
-            for f in found.iter_mut().filter(|f| f.tau == 0.0 && !f.graze) {
-                if let Some(way) = departure(&watch.test, seg, path) {
-                    f.direction = way;
+        SCRATCH.with_borrow_mut(|scratch| {
+            crossings(scheme, &watch.test, seg, (ga, gb), path, scratch);
+            let found = &mut scratch.found;
+            if on_zero && seg.fresh {
+                for f in found.iter_mut().filter(|f| f.tau == 0.0 && !f.graze) {
+                    if let Some(way) = departure(&watch.test, seg, path) {
+                        f.direction = way;
+                    }
                 }
             }
-        }
-        if let Test::Linear { n, d } = watch.test {
-            for f in found.iter_mut().filter(|f| f.graze) {
-                refine_graze(f, (n, d), seg, path);
+            if let Test::Linear { n, d } = watch.test {
+                for f in found.iter_mut().filter(|f| f.graze) {
+                    refine_graze(f, (n, d), seg, path);
+                }
             }
-        }
-        for f in found {
-            if watch.direction.counts(f.direction) {
-                out.push(Event {
-                    tick: seg.tick,
-                    time: seg.t0 + f.tau,
-                    body: seg.body.id,
-                    kind: EventKind::Declared {
-                        event: index as u32,
-                        direction: f.direction,
-                        graze: f.graze,
-                        state: f.s,
-                    },
-                });
+            for f in found.iter() {
+                if watch.direction.counts(f.direction) {
+                    out.push(Event {
+                        tick: seg.tick,
+                        time: seg.t0 + f.tau,
+                        body: seg.body.id,
+                        kind: EventKind::Declared {
+                            event: index as u32,
+                            direction: f.direction,
+                            graze: f.graze,
+                            state: f.s,
+                        },
+                    });
+                }
             }
-        }
+        });
     }
     if out.len() - first > 1 {
         out[first..].sort_by(|x, y| x.time.total_cmp(&y.time));
     }
 }
 
-/// The sign changes of one event's function on the segment, in time order, grazes merged.
+/// The sign changes of one event's function on the segment, in time order, grazes merged, into
+/// `scratch.found`.
 fn crossings<S: Scheme>(
     scheme: &S,
     test: &Test,
     seg: &Segment,
     (ga, gb): (f64, f64),
     path: &mut impl FnMut(f64) -> BodyState,
-) -> Vec<Found> {
-    let mut found: Vec<Found> = Vec::new();
+    scratch: &mut Scratch,
+) {
+    let Scratch {
+        found,
+        touches: touches_buf,
+        seen: seen_buf,
+    } = scratch;
+    found.clear();
     let mut start = PathPoint {
         tau: 0.0,
         s: seg.start,
@@ -477,8 +508,6 @@ fn crossings<S: Scheme>(
     let mut sigma = if ga < 0.0 { -1.0 } else { 1.0 };
     // The crossing the round before found (its index in `found`) and its rounding.
     let mut previous: Option<(usize, f64)> = None;
-    // One pair of buffers for every round's search (most segments searched have one or two).
-    let (mut touches_buf, mut seen_buf) = (Vec::new(), Vec::new());
     for round in 0..MAX_CROSSINGS {
         let on_zero = start.value == 0.0;
         touches_buf.clear();
@@ -488,8 +517,9 @@ fn crossings<S: Scheme>(
             test,
             sigma,
             seg,
-            touches: &mut touches_buf,
-            seen: &mut seen_buf,
+            touches: touches_buf,
+            seen: seen_buf,
+            record: previous.is_some(),
         };
         let a = PathPoint {
             value: sigma * start.value,
@@ -556,15 +586,17 @@ fn crossings<S: Scheme>(
             }
             // A crossing right after an opposite one, nothing between them farther from zero
             // than rounding: both sides of one touch, reported once, as a graze.
-            let deepest = search
-                .seen
-                .iter()
-                .filter(|(tau, _)| *tau > start.tau && *tau < lo.tau)
-                .map(|(_, v)| *v)
-                .fold(lo.value, f64::max);
+            let deepest = || {
+                search
+                    .seen
+                    .iter()
+                    .filter(|(tau, _)| *tau > start.tau && *tau < lo.tau)
+                    .map(|(_, v)| *v)
+                    .fold(lo.value, f64::max)
+            };
             let tol = rounding_of(test, seg, &lo);
             match previous {
-                Some((i, prev_tol)) if !touched && deepest <= 2.0 * tol.max(prev_tol) => {
+                Some((i, prev_tol)) if !touched && deepest() <= 2.0 * tol.max(prev_tol) => {
                     let prev = &mut found[i];
                     prev.tau = 0.5 * (prev.tau + lo.tau);
                     prev.graze = true;
@@ -595,7 +627,7 @@ fn crossings<S: Scheme>(
         s: seg.start,
         value: ga,
     };
-    merge_touches(found, test, seg, on_boundary(test, seg, &start, ga))
+    merge_touches(found, test, seg, on_boundary(test, seg, &start, ga));
 }
 
 /// One report per touch of zero. A path within rounding of zero over a stretch (a tangent, a
@@ -605,14 +637,9 @@ fn crossings<S: Scheme>(
 /// way), as a graze otherwise (where the path is most nearly tangent). A segment that starts
 /// on zero continues the touch the segment before reported: its first group is dropped, but
 /// for a fresh body's report at its spawn.
-fn merge_touches(
-    mut found: Vec<Found>,
-    test: &Test,
-    seg: &Segment,
-    starts_on_zero: bool,
-) -> Vec<Found> {
+fn merge_touches(found: &mut Vec<Found>, test: &Test, seg: &Segment, starts_on_zero: bool) {
     if found.is_empty() {
-        return found;
+        return;
     }
     let window = touch_window(test, seg);
     let inv = seg.body.w.inv;
@@ -701,7 +728,6 @@ fn merge_touches(
         out += 1;
     }
     found.truncate(out);
-    found
 }
 
 /// How close together (s) sign changes must be to be one touch: a millionth of the segment,
