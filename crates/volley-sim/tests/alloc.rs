@@ -6,8 +6,8 @@
 //! counted. Each measurement runs inside its own two-thread rayon pool whose workers opt in, so
 //! the chunks stepped on the other worker are counted too.
 //!
-//! Buffers (events, per-chunk event lists, the Verlet force carry) grow to the largest tick they
-//! have seen and are reused. The warm-up covers the first tick with the most events of these
+//! Buffers (events, per-chunk event lists, the Verlet force carry, the declared events' search
+//! and due bodies, kept per thread) grow to the largest tick they have seen and are reused. The warm-up covers the first tick with the most events of these
 //! scenes (every body is identical, so a tick has no events or one per body), after which no
 //! tick may allocate.
 
@@ -161,6 +161,31 @@ fn ticks_allocate_nothing_for_any_integrator_on_two_threads() {
         let scene = bouncing(bodies, integrator, true);
         let n = allocations_after_warm_up(&scene, 2, false);
         assert_eq!(n, 0, "{integrator}");
+    }
+}
+
+/// Identical bodies thrown straight up at 60 m/s under gravity alone, nothing to hit, with
+/// declared events: the step keeps horizons and searches the due bodies after the vectorised
+/// loop. The warm-up sees crossings of an altitude (tick 5) and a speed (tick 31); the measured
+/// ticks see another altitude up (tick 48) and down (tick 75), the apex (tick 62) and the speed
+/// again (tick 92).
+fn thrown_up_with_events(bodies: u32) -> Scene {
+    let text = format!(
+        "Scene(dt: 0.1, integrator: Rk4, forces: [Gravity((0.0, 0.0, -9.81))],
+               launcher: (position: (0.0, 0.0, 0.1), speed: 60.0, elevation_deg: 90.0,
+                          azimuth_deg: 0.0, mass: 1.0, radius: 0.1),
+               volley: (count: {bodies}),
+               events: [(when: Altitude(20.0)), (when: Altitude(175.0)), (when: Apex),
+                        (when: Speed(30.0))])"
+    );
+    scene::parse(&text, "alloc.ron", "alloc").expect("the test scene is valid")
+}
+
+#[test]
+fn declared_events_with_horizons_allocate_nothing() {
+    for (bodies, threads) in [(64, 1), (2 * PARALLEL_MIN_CHUNK as u32 + 3, 2)] {
+        let n = allocations_after_warm_up(&thrown_up_with_events(bodies), threads, false);
+        assert_eq!(n, 0, "{bodies} bodies on {threads} threads");
     }
 }
 

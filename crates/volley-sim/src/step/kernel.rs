@@ -2,6 +2,7 @@
 //! the non-finite check branch-free, compiled for the baseline CPU, AVX2 and AVX-512 and
 //! dispatched once per chunk by [`simd_level`].
 
+use std::cell::RefCell;
 use std::sync::atomic::Ordering::Relaxed;
 
 use glam::DVec3;
@@ -461,6 +462,15 @@ pub(super) fn run_chunk<
     }
 }
 
+/// The due bodies of [`run_events_apart`] and the summary blocks it sets again: per thread,
+/// capacity reused by every chunk the thread steps (cleared at each use, so nothing passes from
+/// one chunk to the next), so a tick allocates nothing once the buffers have grown.
+type ApartBuffers = (Vec<(usize, BodyState, DVec3)>, Vec<usize>);
+
+thread_local! {
+    static APART: RefCell<ApartBuffers> = RefCell::default();
+}
+
 /// A chunk of a world with declared events, horizons and nothing to hit: the bodies step as in
 /// a world without events (the vectorised loop), then the search runs on the few whose
 /// horizon ends, from the start states saved before the step. The same searches on the same
@@ -473,17 +483,34 @@ fn run_events_apart<S: Scheme, const STREAMING: bool>(
     ctx: &StepContext,
     events: &mut Vec<Event>,
 ) -> KernelOut {
-    let n = l.len();
     let Some(hz) = ctx.horizon else {
         unreachable!("called only with horizons")
     };
+    APART.with_borrow_mut(|(starts, rebound)| {
+        starts.clear();
+        rebound.clear();
+        apart::<S, STREAMING>(scheme, l, ctx, events, hz, starts, rebound)
+    })
+}
+
+/// [`run_events_apart`] with its buffers.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn apart<S: Scheme, const STREAMING: bool>(
+    scheme: &S,
+    l: &mut Chunk,
+    ctx: &StepContext,
+    events: &mut Vec<Event>,
+    hz: &Horizon,
+    starts: &mut Vec<(usize, BodyState, DVec3)>,
+    rebound: &mut Vec<usize>,
+) -> KernelOut {
     // The due bodies, with their start states and carried forces. A block of the summary
     // that lies wholly in this chunk and whose bound is later than this step is passed over
     // with one load, and its bound is set again here once its bodies are searched; the bodies
     // of a block shared with the next chunk are looked at one by one.
+    let n = l.len();
     let due = &hz.due[l.offset..l.offset + n];
-    let mut starts: Vec<(usize, BodyState, DVec3)> = Vec::with_capacity(n);
-    let mut rebound: Vec<usize> = Vec::new();
     let mut i = 0;
     while i < n {
         let global = l.offset + i;
@@ -517,7 +544,7 @@ fn run_events_apart<S: Scheme, const STREAMING: bool>(
     }
     let mut out = run_chunk::<S, false, false, false, STREAMING>(scheme, l, ctx, events);
     let mut event_evals = 0u64;
-    for (i, s0, c0) in starts {
+    for &(i, s0, c0) in starts.iter() {
         let w = if STREAMING {
             l.launch.mass::<S>(i, l.mass[i], 1.0 / l.mass[i])
         } else {
@@ -548,7 +575,7 @@ fn run_events_apart<S: Scheme, const STREAMING: bool>(
         let quiet = quiet_steps(&ctx.contacts.events, body.id, &s1, w.inv, a, ctx.h);
         hz.set_due(l.offset + i, hz.step + 1 + quiet);
     }
-    for k in rebound {
+    for &k in rebound.iter() {
         let least = hz.due[k * DUE_BLOCK..(k + 1) * DUE_BLOCK]
             .iter()
             .fold(u64::MAX, |m, d| m.min(d.load(Relaxed)));
