@@ -486,11 +486,14 @@ fn run_events_apart<S: Scheme, const STREAMING: bool>(
     let Some(hz) = ctx.horizon else {
         unreachable!("called only with horizons")
     };
-    APART.with_borrow_mut(|(starts, rebound)| {
-        starts.clear();
-        rebound.clear();
-        apart::<S, STREAMING>(scheme, l, ctx, events, hz, starts, rebound)
-    })
+    // Taken out and put back rather than borrowed in a closure: the loop inlined here is
+    // compiled for this function's vector width, which a closure's body would not inherit.
+    let (mut starts, mut rebound) = APART.take();
+    starts.clear();
+    rebound.clear();
+    let out = apart::<S, STREAMING>(scheme, l, ctx, events, hz, &mut starts, &mut rebound);
+    APART.set((starts, rebound));
+    out
 }
 
 /// [`run_events_apart`] with its buffers.
