@@ -147,14 +147,21 @@ pub(crate) fn first_root(
     crossing: &mut impl Crossing,
 ) -> Option<(PathPoint, PathPoint)> {
     debug_assert!(a.value >= 0.0);
-    // Depth first, earlier half on top: at most one pending piece per level.
-    let mut stack = [(a, b, 0u32); MAX_DEPTH as usize + 2];
+    // Depth first, earlier half on top: at most one pending piece per level. Each entry is
+    // written before it is read; the array starts as `None`s, which writes a tag per entry
+    // where copies of `(a, b)` wrote 136 bytes: filling those cost more than a search that
+    // ends at its first piece, most of them (perf, the events bench's busy window).
+    let mut stack: [Option<(PathPoint, PathPoint, u32)>; MAX_DEPTH as usize + 2] =
+        [None; MAX_DEPTH as usize + 2];
+    stack[0] = Some((a, b, 0));
     let mut top = 1;
     let mut pieces = 0;
     while top > 0 && pieces < MAX_PIECES {
         pieces += 1;
         top -= 1;
-        let (a, b, depth) = stack[top];
+        let Some((a, b, depth)) = stack[top] else {
+            break;
+        };
         if b.value <= 0.0 {
             if depth >= MAX_DEPTH || crossing.bracketed(&a, &b) {
                 return Some(refine(path, crossing, a, b));
@@ -177,10 +184,10 @@ pub(crate) fn first_root(
             value: crossing.value(tau, &s),
         };
         if mid.value > 0.0 {
-            stack[top] = (mid, b, depth + 1);
+            stack[top] = Some((mid, b, depth + 1));
             top += 1;
         }
-        stack[top] = (a, mid, depth + 1);
+        stack[top] = Some((a, mid, depth + 1));
         top += 1;
     }
     None
