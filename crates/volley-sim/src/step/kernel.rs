@@ -488,16 +488,13 @@ fn run_events_apart<S: Scheme, const STREAMING: bool>(
     };
     // Taken out and put back rather than borrowed in a closure: the loop inlined here is
     // compiled for this function's vector width, which a closure's body would not inherit.
-    let (mut starts, mut rebound) = APART.take();
-    starts.clear();
-    rebound.clear();
-    let out = apart::<S, STREAMING>(scheme, l, ctx, events, hz, &mut starts, &mut rebound);
-    APART.set((starts, rebound));
+    let mut buffers = APART.take();
+    let out = apart::<S, STREAMING>(scheme, l, ctx, events, hz, &mut buffers);
+    APART.set(buffers);
     out
 }
 
-/// [`run_events_apart`] with its buffers.
-#[allow(clippy::too_many_arguments)]
+/// [`run_events_apart`] with its buffers, which it clears first.
 #[inline(always)]
 fn apart<S: Scheme, const STREAMING: bool>(
     scheme: &S,
@@ -505,9 +502,10 @@ fn apart<S: Scheme, const STREAMING: bool>(
     ctx: &StepContext,
     events: &mut Vec<Event>,
     hz: &Horizon,
-    starts: &mut Vec<(usize, BodyState, DVec3)>,
-    rebound: &mut Vec<usize>,
+    (starts, rebound): &mut ApartBuffers,
 ) -> KernelOut {
+    starts.clear();
+    rebound.clear();
     // The due bodies, with their start states and carried forces. A block of the summary
     // that lies wholly in this chunk and whose bound is later than this step is passed over
     // with one load, and its bound is set again here once its bodies are searched; the bodies
