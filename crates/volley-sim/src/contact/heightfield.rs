@@ -85,6 +85,23 @@ impl GridIndex {
         }
     }
 
+    /// The two triangles of cell `(i, j)` in the world, from its corner samples' heights `h`
+    /// (at `(i, j)`, `(i + 1, j)`, `(i + 1, j + 1)`, `(i, j + 1)`): below the diagonal
+    /// `(p00, p10, p11)`, above it `(p00, p11, p01)`. The one place a cell's corners are
+    /// placed, so a renderer draws the triangles the contact meets, to the bit.
+    pub(crate) fn cell_triangles(&self, i: u32, j: u32, h: [f64; 4]) -> [[DVec3; 3]; 2] {
+        let (x0, y0) = (f64::from(i) * self.cell, f64::from(j) * self.cell);
+        let (x1, y1) = (f64::from(i + 1) * self.cell, f64::from(j + 1) * self.cell);
+        let w = |x: f64, y: f64, z: f64| self.position + self.linear * DVec3::new(x, y, z);
+        let (p00, p10, p11, p01) = (
+            w(x0, y0, h[0]),
+            w(x1, y0, h[1]),
+            w(x1, y1, h[2]),
+            w(x0, y1, h[3]),
+        );
+        [[p00, p10, p11], [p00, p11, p01]]
+    }
+
     /// Calls `f(2 cell + half, corners)` for each triangle of the cells whose samples' range
     /// meets the box of the sphere `(center, radius)` in the grid's frame, until `f` returns
     /// `true`; returns whether it did.
@@ -139,19 +156,9 @@ impl GridIndex {
                         if hi < zlo || lo > zhi {
                             continue;
                         }
-                        let (x0, y0) = (f64::from(i) * self.cell, f64::from(j) * self.cell);
-                        let (x1, y1) = (f64::from(i + 1) * self.cell, f64::from(j + 1) * self.cell);
-                        let w = |x: f64, y: f64, z: f64| {
-                            self.position + self.linear * DVec3::new(x, y, z)
-                        };
-                        let (p00, p10, p11, p01) = (
-                            w(x0, y0, h[0]),
-                            w(x1, y0, h[1]),
-                            w(x1, y1, h[2]),
-                            w(x0, y1, h[3]),
-                        );
+                        let [lower, upper] = self.cell_triangles(i, j, h);
                         let id = 2 * (j * cx + i);
-                        if f(id, &[p00, p10, p11]) || f(id + 1, &[p00, p11, p01]) {
+                        if f(id, &lower) || f(id + 1, &upper) {
                             return true;
                         }
                     }
@@ -212,5 +219,42 @@ mod tests {
             false
         });
         assert_eq!(seen, vec![2 * (3 * 20 + 10), 2 * (3 * 20 + 10) + 1]);
+    }
+
+    /// What a renderer draws (`HeightfieldSurface::triangle` and `triangles`) is what the
+    /// walk hands the contact, to the bit, on a moved, turned and scaled grid.
+    #[test]
+    fn the_drawn_triangles_are_the_ones_the_walk_meets() {
+        let g = std::sync::Arc::new(hill());
+        let t = Transform {
+            position: DVec3::new(-3.25, 7.5, 0.125),
+            rotation_deg: DVec3::new(10.0, -20.0, 35.0),
+            scale: DVec3::new(0.5, 1.5, 0.75),
+        };
+        let surface = crate::contact::HeightfieldSurface::new(
+            "hill",
+            crate::contact::LevelSource::Inline,
+            0,
+            g.clone(),
+            1.0,
+            1.0,
+            t,
+            0.5,
+        );
+        let mut walked = Vec::new();
+        surface.index.any(&g, DVec3::ZERO, 1e6, |id, tri| {
+            walked.push((id, *tri));
+            false
+        });
+        assert_eq!(walked.len(), 800);
+        for (id, tri) in &walked {
+            assert_eq!(surface.triangle(id / 2, (id % 2) as u8), Some(*tri), "{id}");
+        }
+        walked.sort_by_key(|(id, _)| *id);
+        let walked: Vec<_> = walked.into_iter().map(|(_, t)| t).collect();
+        let drawn: Vec<_> = surface.triangles().collect();
+        assert_eq!(drawn, walked);
+        assert_eq!(surface.triangle(400, 0), None);
+        assert_eq!(surface.triangle(0, 2), None);
     }
 }

@@ -192,6 +192,24 @@ impl MeshSurface {
     pub fn hierarchy_bytes(&self) -> usize {
         self.bvh.memory_bytes()
     }
+
+    /// Triangle `index` (as [`crate::contact::Surface::Mesh`] numbers it) in the world, as
+    /// the contact meets it; `None` past the last.
+    pub fn triangle(&self, index: u32) -> Option<[DVec3; 3]> {
+        let t = self.geometry.triangles.get(index as usize)?;
+        let (m, at) = (self.transform.linear(), self.transform.position);
+        Some(t.map(|i| at + m * self.geometry.vertices[i as usize]))
+    }
+
+    /// Every triangle in the world, in [`MeshSurface::triangle`]'s order.
+    pub fn triangles(&self) -> impl Iterator<Item = [DVec3; 3]> + '_ {
+        let (m, at) = (self.transform.linear(), self.transform.position);
+        let v = &self.geometry.vertices;
+        self.geometry
+            .triangles
+            .iter()
+            .map(move |t| t.map(|i| at + m * v[i as usize]))
+    }
 }
 
 impl PartialEq for MeshSurface {
@@ -315,6 +333,36 @@ impl HeightfieldSurface {
     pub fn bounds(&self) -> Aabb {
         self.index.bounds
     }
+
+    /// Half `half` (0 below the diagonal, 1 above, as [`crate::contact::Surface::Heightfield`]
+    /// numbers them) of cell `cell` in the world, as the contact meets it; `None` past the
+    /// last cell or for a half other than 0 and 1.
+    pub fn triangle(&self, cell: u32, half: u8) -> Option<[DVec3; 3]> {
+        let (cx, cy) = self.grid.cells();
+        if cx == 0 || cell >= cx.saturating_mul(cy) || half > 1 {
+            return None;
+        }
+        let (i, j) = (cell % cx, cell / cx);
+        Some(self.index.cell_triangles(i, j, self.corners(i, j))[usize::from(half)])
+    }
+
+    /// Every triangle in the world, cell by cell (row-major), below the diagonal first.
+    pub fn triangles(&self) -> impl Iterator<Item = [DVec3; 3]> + '_ {
+        let (cx, cy) = self.grid.cells();
+        (0..cy)
+            .flat_map(move |j| (0..cx).map(move |i| (i, j)))
+            .flat_map(|(i, j)| self.index.cell_triangles(i, j, self.corners(i, j)))
+    }
+
+    fn corners(&self, i: u32, j: u32) -> [f64; 4] {
+        let g = &self.grid;
+        [
+            g.height(i, j),
+            g.height(i + 1, j),
+            g.height(i + 1, j + 1),
+            g.height(i, j + 1),
+        ]
+    }
 }
 
 impl PartialEq for HeightfieldSurface {
@@ -342,5 +390,44 @@ impl fmt::Debug for HeightfieldSurface {
             .field("columns", &self.grid.columns)
             .field("rows", &self.grid.rows)
             .finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What a renderer draws (`MeshSurface::triangle` and `triangles`) is what the hierarchy
+    /// hands the contact, to the bit, on a moved, turned and scaled mesh.
+    #[test]
+    fn the_drawn_triangles_are_the_ones_the_hierarchy_holds() {
+        let vertices: Vec<DVec3> = (0..40)
+            .map(|k| {
+                let k = f64::from(k);
+                DVec3::new(0.37 * k, (0.61 * k).sin() * 3.0, (0.29 * k).cos())
+            })
+            .collect();
+        let triangles: Vec<[u32; 3]> = (0..38).map(|k| [k, k + 1, k + 2]).collect();
+        let geometry = Arc::new(MeshGeometry::new(vertices, triangles));
+        let t = Transform {
+            position: DVec3::new(12.0, -4.5, 0.3),
+            rotation_deg: DVec3::new(-15.0, 40.0, 100.0),
+            scale: DVec3::new(2.0, 0.5, 1.25),
+        };
+        let mesh = MeshSurface::new("strip", LevelSource::Inline, 0, geometry, t, 0.5);
+        let mut held = Vec::new();
+        let everything = Aabb::of_segment(DVec3::splat(-1e6), DVec3::splat(1e6), 0.0);
+        mesh.bvh.any(&everything, |id, tri| {
+            held.push((id, *tri));
+            false
+        });
+        held.sort_by_key(|(id, _)| *id);
+        assert_eq!(held.len(), mesh.geometry.triangles.len());
+        let drawn: Vec<_> = mesh.triangles().collect();
+        for (id, tri) in &held {
+            assert_eq!(mesh.triangle(*id), Some(*tri), "{id}");
+            assert_eq!(drawn[*id as usize], *tri, "{id}");
+        }
+        assert_eq!(mesh.triangle(held.len() as u32), None);
     }
 }

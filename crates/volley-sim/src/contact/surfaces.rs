@@ -116,6 +116,42 @@ impl Contacts {
         self.ground.is_some() || !self.walls.is_empty() || self.has_levels()
     }
 
+    /// The world triangle an impact on `surface` met, as the contact met it: for a mesh's
+    /// triangle or a heightfield's half cell; `None` for the ground, a wall, or an index the
+    /// scene does not have.
+    pub fn triangle(&self, surface: Surface) -> Option<[DVec3; 3]> {
+        match surface {
+            Surface::Mesh { surface, triangle } => {
+                self.meshes.get(surface as usize)?.triangle(triangle)
+            }
+            Surface::Heightfield {
+                surface,
+                cell,
+                triangle,
+            } => self
+                .heightfields
+                .get(surface as usize)?
+                .triangle(cell, triangle),
+            Surface::Ground | Surface::Wall(_) => None,
+        }
+    }
+
+    /// The scene's name for `surface`: a mesh's or a heightfield's own name, `ground`, or
+    /// `wall N`; `None` for an index the scene does not have.
+    pub fn surface_name(&self, surface: Surface) -> Option<String> {
+        match surface {
+            Surface::Ground => self.ground.map(|_| "ground".to_string()),
+            Surface::Wall(i) => self.walls.get(i as usize).map(|_| format!("wall {i}")),
+            Surface::Mesh { surface, .. } => {
+                self.meshes.get(surface as usize).map(|m| m.name.clone())
+            }
+            Surface::Heightfield { surface, .. } => self
+                .heightfields
+                .get(surface as usize)
+                .map(|h| h.name.clone()),
+        }
+    }
+
     /// Whether the scene has something to hit: a ground, a wall, a target, a mesh or a
     /// heightfield (declared events are not).
     pub fn has_surfaces(&self) -> bool {
