@@ -307,7 +307,7 @@ pub fn describe(e: &Event) -> String {
             let on = surface.to_string();
             format!("{head}: impact on {on} at {normal_speed:.6} m/s, penetration {depth:.6} m")
         }
-        EventKind::Rest { surface } => format!("{head}: came to rest on {surface:?}"),
+        EventKind::Rest { surface } => format!("{head}: came to rest on {surface}"),
         EventKind::Hit { target } => format!("{head}: HIT target {target}"),
         EventKind::Approach {
             target,
