@@ -17,6 +17,7 @@ pub mod draw;
 pub mod frame_writer;
 pub mod gpu;
 pub mod history;
+pub mod level;
 pub mod pipelines;
 pub mod probe;
 pub mod reference;

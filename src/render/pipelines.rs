@@ -1,11 +1,12 @@
 //! The render pipelines, one shader file each under `shaders/` (with `shaders/globals.wgsl`
 //! prepended): spheres (solid and translucent variants), lines (line and triangle variants),
-//! trails, and the ground grid.
+//! trails, the ground grid, and the level's lit triangles.
 //!
 //! Depth is reversed (cleared to 0, nearer is greater), so every depth test is `Greater`.
 //! Solid spheres write depth; everything translucent tests against it without writing.
 
 use crate::render::draw::{ColouredVertex, SphereInstance};
+use crate::render::level::LitVertex;
 
 /// Depth buffer format.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -31,6 +32,8 @@ pub struct Pipelines {
     pub surfaces: wgpu::RenderPipeline,
     /// The ground grid.
     pub grid: wgpu::RenderPipeline,
+    /// Level surfaces: opaque lit triangles.
+    pub level: wgpu::RenderPipeline,
 }
 
 /// The trails' pipeline and its group 1 layout.
@@ -102,6 +105,8 @@ const SPHERE_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
     wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Unorm8x4];
 const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 2] =
     wgpu::vertex_attr_array![0 => Float32x3, 1 => Unorm8x4];
+const LIT_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Unorm8x4];
 
 impl Pipelines {
     /// Builds every pipeline for colour targets of `format`.
@@ -130,6 +135,7 @@ impl Pipelines {
         let sphere = shader(device, "sphere", include_str!("../../shaders/sphere.wgsl"));
         let line = shader(device, "line", include_str!("../../shaders/line.wgsl"));
         let grid_shader = shader(device, "grid", include_str!("../../shaders/grid.wgsl"));
+        let level_shader = shader(device, "level", include_str!("../../shaders/level.wgsl"));
         let spheres = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<SphereInstance>() as u64,
             step_mode: wgpu::VertexStepMode::Instance,
@@ -139,6 +145,11 @@ impl Pipelines {
             array_stride: std::mem::size_of::<ColouredVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &VERTEX_ATTRIBUTES,
+        })];
+        let lit = [Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<LitVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &LIT_ATTRIBUTES,
         })];
         use wgpu::PrimitiveTopology as T;
         let build = |label, layout, stage: Stage<'_>, topology, translucent| {
@@ -191,6 +202,17 @@ impl Pipelines {
                 },
                 T::TriangleStrip,
                 true,
+            ),
+            level: build(
+                "level",
+                &common,
+                Stage {
+                    module: &level_shader,
+                    fragment: "fs_main",
+                    buffers: &lit,
+                },
+                T::TriangleList,
+                false,
             ),
             trails: trail_layout.zip(trail.as_ref()).map(|(layout, trail)| {
                 let shader = shader(device, "trail", include_str!("../../shaders/trail.wgsl"));

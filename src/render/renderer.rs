@@ -3,9 +3,10 @@
 //!
 //! Per frame: [`Renderer::prepare`] builds the [`DrawList`] and uploads it into buffers that are
 //! kept and only grow (to the next power of two) when a frame needs more; trails upload only the
-//! rows recorded since the last frame. [`Renderer::encode`] records one render pass: solid
-//! spheres (all bodies of all lanes in one instanced draw), the grid, walls, trails (one
-//! instanced draw per lane), lines, translucent spheres.
+//! rows recorded since the last frame; the level's triangles upload only when the scene or the
+//! render origin changes ([`crate::render::level`]). [`Renderer::encode`] records one render
+//! pass: solid spheres (all bodies of all lanes in one instanced draw), the level, the grid,
+//! walls, trails (one instanced draw per lane), lines, translucent spheres.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{DVec3, Vec3};
@@ -13,6 +14,7 @@ use glam::{DVec3, Vec3};
 use crate::render::camera::{OrbitCamera, Viewport};
 use crate::render::draw::{DrawList, DrawOptions, Lane, Rgba};
 use crate::render::gpu::Gpu;
+use crate::render::level::{LevelKey, LitVertex, level_vertices};
 use crate::render::pipelines::{DEPTH_FORMAT, Pipelines};
 use crate::render::trails::{TRAIL_SAMPLES, TrailRing, segments_per_trail};
 
@@ -135,6 +137,9 @@ pub struct Renderer {
     translucent: GrowBuffer,
     lines: GrowBuffer,
     surfaces: GrowBuffer,
+    level: GrowBuffer,
+    level_key: Option<LevelKey>,
+    level_vertices: Vec<LitVertex>,
     trails: Vec<TrailBuffers>,
     depth: Option<(wgpu::TextureView, (u32, u32))>,
     viewport: Viewport,
@@ -170,6 +175,9 @@ impl Renderer {
             translucent: GrowBuffer::new(device, "translucent spheres", vertex),
             lines: GrowBuffer::new(device, "lines", vertex),
             surfaces: GrowBuffer::new(device, "surfaces", vertex),
+            level: GrowBuffer::new(device, "level", vertex),
+            level_key: None,
+            level_vertices: Vec::new(),
             pipelines,
             globals,
             globals_group,
@@ -198,6 +206,11 @@ impl Renderer {
         self.pipelines.trails_missing()
     }
 
+    /// Triangles of level surfaces (meshes, heightfields) the last prepared frame draws.
+    pub fn level_triangles(&self) -> usize {
+        self.level_vertices.len() / 3
+    }
+
     /// How many times a frame needed a bigger GPU buffer (instances, lines, trails) since the
     /// renderer was made: buffers are kept between frames and only grow, so this stops
     /// changing once the scene stops growing.
@@ -215,6 +228,7 @@ impl Renderer {
             self.surfaces.write(gpu, &self.list.surfaces),
         ];
         self.allocations += grew.iter().filter(|g| **g).count() as u64;
+        self.prepare_level(gpu, lanes, options);
         let ground = lanes
             .first()
             .and_then(|l| l.world.contacts().ground.map(|g| g.height));
@@ -248,6 +262,26 @@ impl Renderer {
         }
         self.ensure_depth(gpu, view.target_size);
         self.viewport = view.viewport;
+    }
+
+    /// Uploads the level's triangles when the scene's surfaces or the render origin changed
+    /// since the last upload (lane 0's: every lane steps the same scene).
+    fn prepare_level(&mut self, gpu: &Gpu, lanes: &[Lane<'_>], options: &DrawOptions) {
+        let key = lanes
+            .first()
+            .map(|l| LevelKey::of(l.world.contacts(), options.origin))
+            .unwrap_or_default();
+        if self.level_key.as_ref() == Some(&key) {
+            return;
+        }
+        self.level_vertices.clear();
+        if let Some(l) = lanes.first() {
+            level_vertices(l.world.contacts(), options.origin, &mut self.level_vertices);
+        }
+        if self.level.write(gpu, &self.level_vertices) {
+            self.allocations += 1;
+        }
+        self.level_key = Some(key);
     }
 
     fn new_trail(&self, gpu: &Gpu) -> TrailBuffers {
@@ -405,6 +439,7 @@ impl Renderer {
         pass.set_bind_group(0, &self.globals_group, &[]);
         let p = &self.pipelines;
         draw_instanced(&mut pass, &p.solid_spheres, &self.solid);
+        draw_vertices(&mut pass, &p.level, &self.level);
         pass.set_pipeline(&p.grid);
         pass.draw(0..4, 0..1);
         draw_vertices(&mut pass, &p.surfaces, &self.surfaces);
