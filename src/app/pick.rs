@@ -68,14 +68,31 @@ pub fn marker_name(kind: MarkerKind) -> &'static str {
         MarkerKind::Tenth => "0.1 s marker",
         MarkerKind::Second => "1 s marker",
         MarkerKind::Apex => "apex",
-        MarkerKind::Impact => "impact",
+        MarkerKind::Impact(_) => "impact",
+        MarkerKind::Rest(_) => "rest",
         MarkerKind::Declared(_) => "event",
     }
 }
 
-/// What the probe calls a marker: its name, and a declared event's label after `event`.
+/// What the probe calls a marker: its name, a declared event's label after `event`, and after
+/// `impact` or `rest` the surface hit by its scene name and, on a level surface, the triangle or cell
+/// (`impact on steel plate, triangle 5`, `impact on hill, cell 1234.1`).
 fn marker_label(kind: MarkerKind, world: &crate::world::World) -> Cow<'static, str> {
+    use crate::contact::Surface;
     match kind {
+        MarkerKind::Impact(surface) | MarkerKind::Rest(surface) => {
+            let what = marker_name(kind);
+            let Some(name) = world.contacts().surface_name(surface) else {
+                return Cow::Borrowed(what);
+            };
+            Cow::Owned(match surface {
+                Surface::Mesh { triangle, .. } => format!("{what} on {name}, triangle {triangle}"),
+                Surface::Heightfield { cell, triangle, .. } => {
+                    format!("{what} on {name}, cell {cell}.{triangle}")
+                }
+                Surface::Ground | Surface::Wall(_) => format!("{what} on {name}"),
+            })
+        }
         MarkerKind::Declared(i) => match world.declared_events().specs().get(i as usize) {
             Some(spec) => Cow::Owned(format!("event {}", spec.label())),
             None => Cow::Borrowed("event"),
@@ -105,7 +122,9 @@ pub fn marker_on_screen(
 ) -> Option<(f32, f32)> {
     let track = session.lanes()[0].history.probe.tracks().first()?;
     let same = |m: MarkerKind| match (m, kind) {
-        (MarkerKind::Declared(_), MarkerKind::Declared(_)) => true,
+        (MarkerKind::Declared(_), MarkerKind::Declared(_))
+        | (MarkerKind::Impact(_), MarkerKind::Impact(_))
+        | (MarkerKind::Rest(_), MarkerKind::Rest(_)) => true,
         _ => m == kind,
     };
     let m = track.markers.iter().rev().find(|m| same(m.kind))?;

@@ -281,7 +281,7 @@ fn hover_step(
     error: &dyn Fn(&str, String) -> ScriptError,
 ) -> Result<Step, ScriptError> {
     use crate::render::probe::MarkerKind as K;
-    let expected = "expected `hover body N` or `hover marker tenth|second|apex|impact|event`";
+    let expected = "expected `hover body N` or `hover marker tenth|second|apex|impact|rest|event`";
     match (what, arg) {
         (Some("body"), Some(n)) => n
             .parse::<usize>()
@@ -292,7 +292,9 @@ fn hover_step(
                 "tenth" => K::Tenth,
                 "second" => K::Second,
                 "apex" => K::Apex,
-                "impact" => K::Impact,
+                // Any impact or rest: the surface is not matched, as no event index is.
+                "impact" => K::Impact(crate::contact::Surface::Ground),
+                "rest" => K::Rest(crate::contact::Surface::Ground),
                 "event" => K::Declared(0),
                 _ => return Err(error(kind, format!("{expected}, got `{kind}`"))),
             };

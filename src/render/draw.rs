@@ -213,7 +213,8 @@ pub struct DrawList {
     scratch: Vec<(f64, DVec3)>,
 }
 
-fn rel(p: DVec3, origin: DVec3) -> [f32; 3] {
+/// `p` relative to the render origin, in `f32`: the one place positions leave `f64`.
+pub(crate) fn rel(p: DVec3, origin: DVec3) -> [f32; 3] {
     (p - origin).as_vec3().to_array()
 }
 
@@ -265,7 +266,9 @@ impl DrawList {
     }
 
     /// The markers of a lane's first bodies as small spheres: tenths dim, seconds in the
-    /// lane's colour and twice the size, apexes white, impacts yellow, declared events magenta.
+    /// lane's colour and twice the size, apexes white, impacts and rests yellow, declared events
+    /// magenta. An impact or a rest on a level surface also rings the point it struck on that surface
+    /// ([`DrawList::hit_ring`]).
     fn markers(&mut self, lane: &Lane<'_>, options: &DrawOptions) {
         use crate::render::probe::MarkerKind as K;
         let small = (0.0025 * options.scale) as f32;
@@ -278,9 +281,14 @@ impl DrawList {
                     K::Tenth => (small, dim),
                     K::Second => (2.0 * small, lane.colour),
                     K::Apex => (2.5 * small, APEX),
-                    K::Impact => (2.5 * small, IMPACT),
+                    K::Impact(_) | K::Rest(_) => (2.5 * small, IMPACT),
                     K::Declared(_) => (3.0 * small, EVENT),
                 };
+                if let K::Impact(surface) | K::Rest(surface) = m.kind
+                    && let Some(t) = lane.world.contacts().triangle(surface)
+                {
+                    self.hit_ring(t, m.at.p, 4.0 * f64::from(small), options.origin);
+                }
                 self.solid.push(SphereInstance {
                     center: rel(m.at.p, options.origin),
                     radius,
@@ -354,6 +362,30 @@ impl DrawList {
         for s in [-1.0, 1.0] {
             let back = tip - 0.2 * len * dir + s * 0.08 * len * side;
             self.line(tip, back, colour, options.origin);
+        }
+    }
+
+    /// A yellow ring of `radius` in the plane of triangle `t`, about the point of `t` nearest
+    /// `centre` (the body's centre at its impact): where it struck the surface. Lifted off the
+    /// face by a fiftieth of the radius towards the body, so the face's depth does not hide it.
+    fn hit_ring(&mut self, t: [DVec3; 3], centre: DVec3, radius: f64, origin: DVec3) {
+        let (q, _) = crate::contact::closest_point(centre, t[0], t[1], t[2]);
+        let Some(mut n) = (t[1] - t[0]).cross(t[2] - t[0]).try_normalize() else {
+            return;
+        };
+        if n.dot(centre - q) < 0.0 {
+            n = -n;
+        }
+        let q = q + 0.02 * radius * n;
+        let u = n.any_orthonormal_vector();
+        let v = n.cross(u);
+        const SIDES: usize = 16;
+        let at = |k: usize| {
+            let a = std::f64::consts::TAU * k as f64 / SIDES as f64;
+            q + radius * (a.cos() * u + a.sin() * v)
+        };
+        for k in 0..SIDES {
+            self.line(at(k), at(k + 1), IMPACT, origin);
         }
     }
 

@@ -18,7 +18,7 @@ use std::collections::VecDeque;
 
 use glam::DVec3;
 
-use crate::contact::EventKind;
+use crate::contact::{EventKind, Surface};
 use crate::forces::ForceModel;
 use crate::world::{BodyId, World};
 
@@ -40,8 +40,12 @@ pub enum MarkerKind {
     Second,
     /// The top of the arc.
     Apex,
-    /// A bounce on the ground or a wall.
-    Impact,
+    /// A bounce, on the surface it names.
+    Impact(Surface),
+    /// A contact that ended the bounce (the contact stage's rest event: the bounce fell below
+    /// one step of gravity's speed, as it does at any speed on a surface of restitution 0), on
+    /// the surface it names.
+    Rest(Surface),
     /// A declared event of the scene: its index in the scene's events.
     Declared(u32),
 }
@@ -174,22 +178,24 @@ impl ProbeHistory {
                 });
                 continue;
             }
-            if let EventKind::Impact { .. } = e.kind
+            let contact = match e.kind {
+                EventKind::Impact { surface, .. } => Some(MarkerKind::Impact(surface)),
+                EventKind::Rest { surface } => Some(MarkerKind::Rest(surface)),
+                _ => None,
+            };
+            if let Some(kind) = contact
                 && let Ok(k) = self.tracks.binary_search_by_key(&e.body, |t| t.id)
                 && let Some(&end) = self.tracks[k].samples.back()
             {
-                // At the impact's own time: back from the tick's end along the velocity after
-                // the bounce (gravity over the rest of the step is left out: under g h^2 / 2).
+                // At the contact's own time: back from the tick's end along the velocity after
+                // it (gravity over the rest of the step is left out: under g h^2 / 2).
                 let back = (end.t - e.time).max(0.0);
                 let at = Sample {
                     t: e.time,
                     p: end.p - back * end.v,
                     ..end
                 };
-                self.tracks[k].push(Marker {
-                    kind: MarkerKind::Impact,
-                    at,
-                });
+                self.tracks[k].push(Marker { kind, at });
             }
         }
     }

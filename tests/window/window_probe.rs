@@ -51,11 +51,11 @@ fn markers_fall_every_tenth_and_second_at_the_apex_and_at_each_impact() {
     assert_eq!(apex.at.v.z, 0.0);
     // Then it hits the ground: one impact marker per bounce, where its centre touches the
     // ground (z = its 0.1 m radius), to within gravity over the rest of the step, g h^2 / 2.
-    assert!(count(MarkerKind::Impact) >= 1);
+    assert!(count(MarkerKind::Impact(volley::contact::Surface::Ground)) >= 1);
     let hit = track
         .markers
         .iter()
-        .find(|m| m.kind == MarkerKind::Impact)
+        .find(|m| m.kind == MarkerKind::Impact(volley::contact::Surface::Ground))
         .unwrap();
     assert!(
         (hit.at.p.z - 0.1).abs() <= 9.81 * 0.04 / 2.0,
@@ -323,7 +323,7 @@ fn a_script_pins_the_probe_on_the_rifle_bullet_in_the_real_window() {
 /// marker of kind `marker` and pins the probe there, for `frames` frames in all with `extra`
 /// arguments; the probe line it prints and its screenshot, or `None` where the window test is
 /// skipped.
-fn pinned_probe(
+pub(crate) fn pinned_probe(
     test: &str,
     scene: &str,
     marker: &str,
