@@ -10,6 +10,10 @@ use crate::world::World;
 const PREVIEW_BODIES: u32 = 64;
 /// Most ticks a preview run steps.
 const PREVIEW_TICKS: u64 = 4000;
+/// The default camera's yaw (degrees): from -y, x to the right.
+const DEFAULT_YAW_DEG: f64 = -90.0;
+/// Its yaw for a scene with level surfaces.
+const LEVEL_YAW_DEG: f64 = -145.0;
 /// Largest extent framed (m): a diverging preview must not zoom the camera out to infinity.
 const MAX_EXTENT: f64 = 1e4;
 
@@ -20,6 +24,10 @@ pub struct SceneBounds {
     pub min: DVec3,
     /// Highest corner.
     pub max: DVec3,
+    /// The yaw (degrees) the default camera frames it from: -90 (from -y, x to the right) for
+    /// most scenes; -145 for a scene with level surfaces, from behind the launcher's right, so
+    /// that faces square to the line of fire (a range's plates) are not seen edge-on.
+    pub yaw_deg: f64,
 }
 
 impl SceneBounds {
@@ -35,7 +43,11 @@ impl SceneBounds {
 
     /// A box holding only `p`.
     pub fn point(p: DVec3) -> SceneBounds {
-        SceneBounds { min: p, max: p }
+        SceneBounds {
+            min: p,
+            max: p,
+            yaw_deg: DEFAULT_YAW_DEG,
+        }
     }
 
     /// Grows the box to hold `p` (non-finite points are ignored).
@@ -56,9 +68,10 @@ impl SceneBounds {
         0.5 * (self.max - self.min).length()
     }
 
-    /// The launcher, the scene's bodies and targets, and where the first bodies and one shot
-    /// from the launcher go over the scene's duration: a short preview run of the scene with at
-    /// most 64 bodies, stopped at the ground, a divergence, or 4000 ticks.
+    /// The launcher, the scene's bodies, targets and level surfaces (their boxes, within
+    /// 1e4 m of the launcher), and where the first bodies and one shot from the launcher go
+    /// over the scene's duration: a short preview run of the scene with at most 64 bodies,
+    /// stopped at the ground, a divergence, or 4000 ticks.
     pub fn of_scene(scene: &Scene) -> SceneBounds {
         let launcher = scene.launcher().position;
         let mut bounds = SceneBounds::point(launcher);
@@ -68,6 +81,17 @@ impl SceneBounds {
         }
         for w in scene.walls() {
             bounds.include(w.point);
+        }
+        let levels = scene.meshes().iter().map(|m| m.bounds());
+        let levels = levels.chain(scene.heightfields().iter().map(|h| h.bounds()));
+        let reach = DVec3::splat(MAX_EXTENT);
+        if !scene.meshes().is_empty() || !scene.heightfields().is_empty() {
+            bounds.yaw_deg = LEVEL_YAW_DEG;
+        }
+        for b in levels {
+            for p in [b.min, b.max] {
+                bounds.include(p.clamp(launcher - reach, launcher + reach));
+            }
         }
         let bodies = scene.bodies();
         let mut edit = scene

@@ -172,10 +172,12 @@ impl OrbitCamera {
         self.target += per_px * (-dx * right + dy * up);
     }
 
-    /// A camera that shows all of `bounds` from the default angle in a view of `aspect`
-    /// (width / height), with a 10 % margin.
+    /// A camera that shows all of `bounds` from its angle ([`SceneBounds::yaw_deg`](
+    /// crate::render::SceneBounds::yaw_deg), 20 degrees up) in a view of `aspect` (width /
+    /// height), with a 10 % margin.
     pub fn framing(bounds: &crate::render::SceneBounds, aspect: f64) -> OrbitCamera {
         let mut camera = OrbitCamera::looking_at(bounds.center(), 1.0);
+        camera.yaw_deg = bounds.yaw_deg;
         let tan_v = (camera.fov_y_deg.to_radians() * 0.5).tan() / 1.1;
         let tan_h = tan_v * aspect.max(1e-3);
         let back = camera.back();
