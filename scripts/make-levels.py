@@ -10,6 +10,10 @@
   corner.obj             a concave corner: a floor falling from z = 0.6 at x = -2 to z = 0 at
                          x = 2 (y in [-2, 2]; 8.5 degrees, towards the wall) and a wall x = 2
                          up to z = 2, each two triangles
+  berm.obj               an earth berm behind a firing range: a closed prism 24 m long (y), its
+                         cross-section a trapezoid 6 m deep at the foot (x in [-3, 3]) and 1.5 m
+                         at the top (x in [-0.75, 0.75]), 3 m high: slopes of 4 in 3 (53.13
+                         degrees); 8 vertices, 12 triangles
   hill.png               a 65 x 65 16-bit grayscale heightfield: a Gaussian hill of 20000 units
                          at its centre, width (sigma) 10 samples
 
@@ -131,6 +135,21 @@ def main():
     ct = [(0, 1, 2), (0, 2, 3), (1, 4, 5), (1, 5, 2)]
     write_obj(os.path.join(OUT, "corner.obj"), cv, ct,
               "A concave corner: a floor falling 0.6 m towards the wall x = 2, 2 m high.")
+    bv = [(sx * foot, y, 0) for y in (-12, 12) for sx, foot in ((-1, 3), (1, 3))] + \
+         [(sx * 0.75, y, 3) for y in (-12, 12) for sx in (-1, 1)]
+    # 0 (-3,-12,0) 1 (3,-12,0) 2 (-3,12,0) 3 (3,12,0) 4 (-.75,-12,3) 5 (.75,-12,3)
+    # 6 (-.75,12,3) 7 (.75,12,3); faces wound outwards
+    bq = [(0, 4, 6, 2),  # front slope (-x)
+          (1, 3, 7, 5),  # back slope (+x)
+          (4, 5, 7, 6),  # top
+          (0, 2, 3, 1),  # foot (-z)
+          (0, 1, 5, 4),  # end at y = -12
+          (2, 6, 7, 3)]  # end at y = +12
+    bt = []
+    for a, b, c, d in bq:
+        bt += [(a, b, c), (a, c, d)]
+    write_obj(os.path.join(OUT, "berm.obj"), bv, bt,
+              "An earth berm: a prism 24 m long (y), 6 m deep at its foot, 1.5 m at its 3 m top.")
     write_png16(os.path.join(OUT, "hill.png"), 65, 65,
                 lambda i, j: round(20000 * math.exp(-((i - 32) ** 2 + (j - 32) ** 2) / 200.0)))
 

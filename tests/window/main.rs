@@ -13,6 +13,7 @@ mod render_paths;
 mod window_aim;
 mod window_compare;
 mod window_draw;
+mod window_levels;
 mod window_pacing;
 mod window_plots;
 mod window_probe;

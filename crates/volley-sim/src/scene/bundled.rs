@@ -92,6 +92,7 @@ pub const BUNDLED: &[(&str, &str)] = &[
         include_str!("../../scenes/model_rocket.ron"),
     ),
     ("orbit", include_str!("../../scenes/orbit.ron")),
+    ("range", include_str!("../../scenes/range.ron")),
     ("rifle", include_str!("../../scenes/rifle.ron")),
     ("seed", include_str!("../../scenes/seed.ron")),
     ("spring", include_str!("../../scenes/spring.ron")),

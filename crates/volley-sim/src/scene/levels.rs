@@ -76,6 +76,7 @@ pub(super) fn check_triangles(file: &str, n: usize) -> Result<(), LevelError> {
 /// that is not on disk but whose path ends in `levels/NAME` with a name here is read from this
 /// list, so a bundled scene steps anywhere.
 pub const BUNDLED_LEVELS: &[(&str, &[u8])] = &[
+    ("berm.obj", include_bytes!("../../levels/berm.obj")),
     ("corner.obj", include_bytes!("../../levels/corner.obj")),
     ("hill.png", include_bytes!("../../levels/hill.png")),
     ("plate.gltf", include_bytes!("../../levels/plate.gltf")),

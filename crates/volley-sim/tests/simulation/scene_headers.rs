@@ -1114,3 +1114,88 @@ fn hard_tunnelling_header_is_the_scene() {
     printed("share of phases missed", 1.0 - 2.0 * reach / step, 0.5, 1);
     assert_eq!(s.detection(), Detection::Swept);
 }
+
+#[test]
+fn range_header_level_and_contacts_are_the_scenes_and_the_runs() {
+    let s = scene("range");
+    assert_60_hz(&s);
+    let size = |b: volley_sim::internals::contact::Aabb| b.max - b.min;
+    let centre = |b: volley_sim::internals::contact::Aabb| 0.5 * (b.min + b.max);
+    // Three plates, 1 m squares 1 cm thick, standing on the ground at 15, 25 and 35 m.
+    for (k, x) in [15.0, 25.0, 35.0].into_iter().enumerate() {
+        let b = s.meshes()[k].bounds();
+        printed("plate thickness (m)", size(b).x, 0.01, 9);
+        printed("plate width (m)", size(b).y, 1.0, 9);
+        printed("plate height (m)", size(b).z, 1.0, 9);
+        printed("plate downrange (m)", centre(b).x, x, 9);
+        printed("plate foot (m)", b.min.z, 0.0, 9);
+    }
+    // The berm: 3 m high, 24 m long, at 50 m.
+    let berm = s.meshes()[3].bounds();
+    printed("berm height (m)", size(berm).z, 3.0, 9);
+    printed("berm length (m)", size(berm).y, 24.0, 9);
+    printed("berm downrange (m)", centre(berm).x, 50.0, 9);
+    // The hill: 16 m across, 5 m high (its top sample: 20000 units), at 30 m, off to the left.
+    let hill = s.heightfields()[0].bounds();
+    printed("hill across (m)", size(hill).x, 16.0, 9);
+    printed("hill across (m)", size(hill).y, 16.0, 9);
+    printed("hill height (m)", size(hill).z, 5.0, 0);
+    printed("hill downrange (m)", centre(hill).x, 30.0, 9);
+    assert!(centre(hill).y > 0.0, "left of the line of fire is +y");
+    // The bodies: a 0.4 kg ball, a grenade, three 900 m/s bullets; the launcher fires a bullet.
+    let bodies = s.bodies();
+    assert_eq!((bodies[0].mass, bodies[1].mass), (0.4, 0.4));
+    for b in &bodies[2..5] {
+        printed("bullet speed (m/s)", b.velocity.length(), 900.0, 9);
+    }
+    assert_eq!(s.launcher().speed, 900.0);
+    // Every restitution the header states: the plates 0.
+    for m in &s.meshes()[..3] {
+        assert_eq!(m.restitution, 0.0);
+    }
+    // The run: the ball's first contact is the hill, the grenade's the berm (and it goes over
+    // the top: higher than the berm's 3 m, past its far foot at 53 m), and each bullet comes to
+    // rest on its own plate first.
+    let run = Run::of(&s, s.ticks_until(s.start_time() + s.duration()));
+    let first = |body: u64| {
+        run.events
+            .iter()
+            .find(|e| {
+                e.body.0 == body
+                    && matches!(e.kind, EventKind::Impact { .. } | EventKind::Rest { .. })
+            })
+            .map(|e| e.kind)
+            .unwrap()
+    };
+    assert!(
+        matches!(
+            first(0),
+            EventKind::Impact {
+                surface: Surface::Heightfield { surface: 0, .. },
+                ..
+            }
+        ),
+        "{:?}",
+        first(0)
+    );
+    assert!(
+        matches!(
+            first(1),
+            EventKind::Impact {
+                surface: Surface::Mesh { surface: 3, .. },
+                ..
+            }
+        ),
+        "{:?}",
+        first(1)
+    );
+    for (k, body) in (2..5).enumerate() {
+        assert!(
+            matches!(first(body), EventKind::Rest { surface: Surface::Mesh { surface, .. } } if surface as usize == k),
+            "{:?}",
+            first(body)
+        );
+    }
+    let grenade = run.world.bodies().index_of(volley_sim::BodyId(1)).unwrap();
+    assert!(run.world.bodies().positions().get(grenade).x > 53.0);
+}

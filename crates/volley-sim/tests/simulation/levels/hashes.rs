@@ -8,7 +8,7 @@ use volley_sim::{World, state_hash};
 use super::load;
 
 /// `(scene, ticks, final hash)`, the ticks being the scene's duration.
-const PINNED: [(&str, u64, &str); 7] = [
+const PINNED: [(&str, u64, &str); 8] = [
     ("hard/edge_vertex", 6, "0x2609b8237ff62640"),
     ("hard/grazing", 4, "0x6e704315a1baaa02"),
     ("hard/grenade_corner", 300, "0x6feaa727e0decd89"),
@@ -16,6 +16,7 @@ const PINNED: [(&str, u64, &str); 7] = [
     ("hard/plate_bullet", 7, "0x8ea315701a1a8e62"),
     ("hard/slope", 90, "0x62c6b4be9d304190"),
     ("hard/tick_boundary", 32, "0x098ca1facca23644"),
+    ("range", 240, "0xd243c2cb4daaa46e"),
 ];
 
 #[test]
