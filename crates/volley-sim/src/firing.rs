@@ -13,7 +13,9 @@
 //! for the closed form the exact arc). The shot hits when that path passes the target's centre;
 //! [`solve`] then checks every solution independently in a [`World`] with the target in it:
 //! the engine's own closest-approach event ([`crate::EventKind::Approach`]) gives the miss,
-//! and an impact on the ground or a wall before arrival marks the shot blocked.
+//! and a contact with the ground, a wall or a level surface (a mesh, a heightfield) before
+//! arrival marks the shot blocked: an impact, or a rest (what a surface of restitution 0
+//! reports for any contact).
 //!
 //! ## How
 //! For an arrival time `T` after launch (a tick count and a fraction of a step, never a float
@@ -90,7 +92,7 @@ pub struct Range {
     pub radius: f64,
     /// The target: its centre at the moment of launch, its radius and velocity.
     pub target: Target,
-    /// Whether the scene's ground and walls can block the shot.
+    /// Whether the scene's ground, walls and level surfaces can block the shot.
     pub contacts: bool,
     /// Longest flight (s) a solution may take.
     pub max_flight_time: f64,
@@ -100,7 +102,7 @@ pub struct Range {
 
 impl Range {
     /// A range on `scene`: the launcher's position, mass and radius; the scene's target
-    /// `index` (the first by default); its ground and walls on.
+    /// `index` (the first by default); its ground, walls and level surfaces on.
     pub fn new(scene: &Scene, target: Target) -> Range {
         Range {
             scene: scene.clone(),
@@ -204,7 +206,7 @@ pub struct Shot {
     /// Closest approach (m) to the target's centre of the shot stepped in a [`World`], from the
     /// engine's approach event: the solution's own miss. `NaN` if the world saw no approach.
     pub miss: f64,
-    /// The ground or wall the shot hits first, if it hits one before arriving.
+    /// The ground, wall or level surface the shot hits first, if it hits one before arriving.
     pub blocked: Option<Blocked>,
     /// The textbook aim for the same question, and its miss; `None` where the closed form has
     /// no answer (out of reach under gravity alone, or no gravity).

@@ -41,7 +41,7 @@ pub enum FiringError {
         /// The slowest vertical launch that reaches it (m/s).
         min_speed: f64,
     },
-    /// The only solutions are blocked by the ground or a wall.
+    /// The only solutions are blocked by the ground, a wall or a level surface.
     Blocked(Vec<(ShotKind, Blocked)>),
     /// Newton's method did not converge for an arrival time the answer needs.
     Stalled {

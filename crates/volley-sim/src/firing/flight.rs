@@ -26,6 +26,8 @@ pub(super) fn flight_world(range: &Range, v0: DVec3, contacts: bool) -> World {
     if !contacts {
         scene.ground = None;
         scene.walls.clear();
+        scene.meshes.clear();
+        scene.heightfields.clear();
     }
     World::new(&scene)
 }
@@ -96,7 +98,9 @@ pub(super) fn finish(range: &Range, mode: Mode, found: Found) -> Result<Vec<Shot
             }
             for e in world.events() {
                 match e.kind {
-                    EventKind::Impact { surface, .. }
+                    // A rest is a contact too: on a surface of restitution 0 (a steel plate,
+                    // the rifle's ground) every contact is reported as one, at any speed.
+                    EventKind::Impact { surface, .. } | EventKind::Rest { surface }
                         if blocked.is_none() && e.time < flight_time =>
                     {
                         blocked = Some(Blocked {

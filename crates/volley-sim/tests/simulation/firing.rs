@@ -348,6 +348,92 @@ fn a_target_behind_a_wall_is_blocked_naming_the_wall_and_the_tick() {
     assert_eq!(firing::solve(&range, Mode::Speed(30.0)).unwrap().len(), 2);
 }
 
+/// A steel plate mesh (restitution 0, so every contact is a rest) and a heightfield ridge (a
+/// bounce) between the launcher and the target: each blocks every arc, named by its surface
+/// and triangle or cell; with contacts off the same shots fly through.
+#[test]
+fn a_target_behind_a_plate_or_a_ridge_is_blocked_naming_the_level_surface() {
+    use volley_sim::internals::contact::{HeightGrid, MeshGeometry, Surface, Transform};
+    let base = inline(
+        "Scene(dt: 0.016666666666666666, integrator: Rk4, forces: [Gravity((0, 0, -9.81))],
+               launcher: (position: (10, 0, 2), speed: 30, elevation_deg: 45, azimuth_deg: 0,
+                          mass: 2.5))",
+    );
+    // A sheet 60 m wide and 60 m tall at x = 30, between the launcher at x = 10 and the seed's
+    // target at (50, 0, 20): the high arc peaks near 45 m, so both arcs meet it.
+    let v = vec![
+        DVec3::new(0.0, -30.0, 0.0),
+        DVec3::new(0.0, 30.0, 0.0),
+        DVec3::new(0.0, 30.0, 60.0),
+        DVec3::new(0.0, -30.0, 60.0),
+    ];
+    let plate = MeshGeometry::new(v, vec![[0, 1, 2], [0, 2, 3]]);
+    let walled = base
+        .edit()
+        .mesh(
+            "plate",
+            plate,
+            Transform::at(DVec3::new(30.0, 0.0, 0.0)),
+            0.0,
+        )
+        .build()
+        .unwrap();
+    let range = Range::new(&walled, bundled("seed").targets()[0]);
+    let err = firing::solve(&range, Mode::Speed(30.0)).unwrap_err();
+    let FiringError::Blocked(ref shots) = err else {
+        panic!("{err}");
+    };
+    assert_eq!(shots.len(), 2);
+    for (_, b) in shots {
+        assert!(
+            matches!(b.surface, Surface::Mesh { surface: 0, .. }),
+            "{b:?}"
+        );
+        assert!(b.time > 0.0 && b.tick >= 1, "{b:?}");
+    }
+    assert!(err.to_string().contains("hits mesh 0 triangle "), "{err}");
+    let mut off = range;
+    off.contacts = false;
+    assert_eq!(firing::solve(&off, Mode::Speed(30.0)).unwrap().len(), 2);
+    // A ridge 60 m high along y at x = 30 (3 samples 10 m apart in x, the middle one high):
+    // restitution 0.5, so the contact is an impact.
+    let ridge = HeightGrid {
+        columns: 3,
+        rows: 2,
+        heights: vec![0.0, 60.0, 0.0, 0.0, 60.0, 0.0],
+    };
+    let ridged = base
+        .edit()
+        .heightfield(
+            "ridge",
+            ridge,
+            10.0,
+            Transform {
+                position: DVec3::new(20.0, -50.0, 0.0),
+                rotation_deg: DVec3::ZERO,
+                scale: DVec3::new(1.0, 10.0, 1.0),
+            },
+            0.5,
+        )
+        .build()
+        .unwrap();
+    let range = Range::new(&ridged, bundled("seed").targets()[0]);
+    let err = firing::solve(&range, Mode::Speed(30.0)).unwrap_err();
+    let FiringError::Blocked(ref shots) = err else {
+        panic!("{err}");
+    };
+    for (_, b) in shots {
+        assert!(
+            matches!(b.surface, Surface::Heightfield { surface: 0, .. }),
+            "{b:?}"
+        );
+    }
+    assert!(
+        err.to_string().contains("hits heightfield 0 cell "),
+        "{err}"
+    );
+}
+
 #[test]
 fn a_target_below_the_ground_is_refused() {
     let scene = bundled("seed");
