@@ -18,7 +18,7 @@ use super::{EXIT_ENVIRONMENT, EXIT_INPUT, Failure, fail, parse_vec3};
 #[derive(Args)]
 pub struct AimArgs {
     /// Scene file or bundled scene name: its forces, dt, substeps, integrator, ground, walls,
-    /// launcher and targets. Without one: gravity alone (`--gravity`), the closed form
+    /// level surfaces, launcher and targets. Without one: gravity alone (`--gravity`), the closed form
     /// (`exact`) at 60 Hz, no ground.
     pub scene: Option<String>,
     /// The scene's settings replaced for this solve.
@@ -52,7 +52,7 @@ pub struct AimArgs {
     /// Mass of the shot (kg); default: the scene's launcher's (drag divides by it).
     #[arg(long)]
     pub mass: Option<f64>,
-    /// Whether the scene's ground and walls can block the shot.
+    /// Whether the scene's ground, walls and level surfaces can block the shot.
     #[arg(long, default_value = "on", value_parser = ["on", "off"])]
     pub contacts: String,
     /// Longest flight (s) a solution may take.
