@@ -223,6 +223,14 @@ struct Candidate {
     restitution: f64,
 }
 
+thread_local! {
+    /// Each thread's candidate list, lent to one [`Candidates`] at a time and given back when
+    /// it drops: capacity only, cleared at each gather, so no answer depends on it. (A list
+    /// held in the struct, `[Candidate; MAX_CANDIDATES]`, was 7 KB to fill and to move for
+    /// every gather: a quarter of a resting body's contact cost on a mesh.)
+    static LISTS: std::cell::Cell<Vec<Candidate>> = const { std::cell::Cell::new(Vec::new()) };
+}
+
 /// The level triangles near one body's step, gathered from the hierarchies and walks once
 /// (every triangle whose box meets `bounds`), so the step's many queries test a handful of
 /// triangles instead of walking the trees each time. A query whose box leaves `bounds` (the
@@ -230,25 +238,26 @@ struct Candidate {
 pub(crate) struct Candidates<'a> {
     contacts: &'a Contacts,
     bounds: Aabb,
-    list: [Candidate; MAX_CANDIDATES],
-    len: usize,
+    list: Vec<Candidate>,
     complete: bool,
+}
+
+impl Drop for Candidates<'_> {
+    fn drop(&mut self) {
+        LISTS.set(std::mem::take(&mut self.list));
+    }
 }
 
 impl<'a> Candidates<'a> {
     /// The triangles of `contacts` whose boxes meet `bounds`, in the trees' order.
     pub(crate) fn gather(contacts: &'a Contacts, bounds: Aabb) -> Candidates<'a> {
-        let empty = Candidate {
-            corners: [DVec3::ZERO; 3],
-            bounds: Aabb::EMPTY,
-            surface: Surface::Ground,
-            restitution: 0.0,
-        };
+        let mut list = LISTS.take();
+        list.clear();
+        list.reserve(MAX_CANDIDATES);
         let mut c = Candidates {
             contacts,
             bounds,
-            list: [empty; MAX_CANDIDATES],
-            len: 0,
+            list,
             complete: true,
         };
         let center = 0.5 * (bounds.min + bounds.max);
@@ -262,17 +271,16 @@ impl<'a> Candidates<'a> {
             if !tb.overlaps(&bounds) {
                 return false;
             }
-            if c.len == MAX_CANDIDATES {
+            if c.list.len() == MAX_CANDIDATES {
                 c.complete = false;
                 return true;
             }
-            c.list[c.len] = Candidate {
+            c.list.push(Candidate {
                 corners: *t,
                 bounds: tb,
                 surface,
                 restitution,
-            };
-            c.len += 1;
+            });
             false
         });
         c
@@ -292,7 +300,7 @@ impl LevelTriangles for Candidates<'_> {
         if !(self.complete && inside) {
             return self.contacts.any_triangle(center, radius, f);
         }
-        for c in &self.list[..self.len] {
+        for c in &self.list {
             if c.bounds.overlaps(&query) && f(c.surface, c.restitution, &c.corners) {
                 return true;
             }
