@@ -429,3 +429,30 @@ fn compare_plots_and_aim_run_in_the_page() {
         shot.display()
     );
 }
+
+/// The bundled level scene in the page, through WebGPU and through WebGL2: its hill and berm
+/// drawn lit (turf-green and steel-grey pixels in the 3D view), the run stepping.
+#[test]
+fn the_range_level_scene_draws_its_meshes_and_hill_in_the_page() {
+    for (test, query) in [
+        ("browser_range", "scene=range"),
+        ("browser_range_webgl", "scene=range&backend=webgl"),
+    ] {
+        let Some((report, shot)) = open(test, query, 60) else {
+            return;
+        };
+        assert!(report["tick"].as_u64().unwrap() > 0, "{query}: {report}");
+        let image = Image::load_png(&shot).unwrap();
+        let count = |f: &dyn Fn(i32, i32, i32) -> bool| {
+            image
+                .rgba
+                .chunks_exact(4)
+                .filter(|p| f(i32::from(p[0]), i32::from(p[1]), i32::from(p[2])))
+                .count()
+        };
+        let turf = count(&|r, g, b| g > 70 && g > r + 20 && g > b + 20);
+        let steel = count(&|r, _, b| r > 90 && (5..40).contains(&(b - r)));
+        assert!(turf > 1000, "{query}: turf {turf}, {}", shot.display());
+        assert!(steel > 500, "{query}: steel {steel}, {}", shot.display());
+    }
+}
