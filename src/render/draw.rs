@@ -267,8 +267,8 @@ impl DrawList {
 
     /// The markers of a lane's first bodies as small spheres: tenths dim, seconds in the
     /// lane's colour and twice the size, apexes white, impacts and rests yellow, declared events
-    /// magenta. An impact or a rest on a level surface also rings the point it struck on that surface
-    /// ([`DrawList::hit_ring`]).
+    /// magenta. An impact or a rest on a level surface also rings the point it struck on that
+    /// surface ([`DrawList::hit_ring`]).
     fn markers(&mut self, lane: &Lane<'_>, options: &DrawOptions) {
         use crate::render::probe::MarkerKind as K;
         let small = (0.0025 * options.scale) as f32;

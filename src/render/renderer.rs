@@ -206,11 +206,6 @@ impl Renderer {
         self.pipelines.trails_missing()
     }
 
-    /// Triangles of level surfaces (meshes, heightfields) the last prepared frame draws.
-    pub fn level_triangles(&self) -> usize {
-        self.level_vertices.len() / 3
-    }
-
     /// How many times a frame needed a bigger GPU buffer (instances, lines, trails) since the
     /// renderer was made: buffers are kept between frames and only grow, so this stops
     /// changing once the scene stops growing.
