@@ -101,12 +101,23 @@ pub(crate) fn first_level_contact(
     }
     let r = level_radius(r);
     let limit = touch_limit(r, s.p);
-    // Of the triangles touched at the start, the one moved into fastest.
+    // Of the triangles touched at the start, the one moved into fastest, if one is moved into
+    // faster than a step of gravity gains; otherwise (resting, sliding or leaving) the nearest.
+    // Comparing rates that are all zero to rounding picked any of them: a body resting on a
+    // face, its centre a few micrometres from a neighbour's edge, took that edge's normal,
+    // tilted by their ratio, as its resting plane, and met the next coplanar triangle's edge
+    // in the step's fall under gravity (docs/physics.md, "Level surfaces").
     let v = s.mv * inv_m;
     let mut touched: Option<(f64, super::level_query::Nearest)> = None;
+    let into = |rate: f64| rate < -ctx.rest_speed;
     tris.level_touching(s.p, limit, |n| {
         let rate = n.normal.dot(v);
-        if n.normal != DVec3::ZERO && touched.is_none_or(|(best, _)| rate < best) {
+        let better = touched.is_none_or(|(best, b)| match (into(rate), into(best)) {
+            (true, true) => rate < best,
+            (a, b_into) if a != b_into => a,
+            _ => n.distance < b.distance,
+        });
+        if n.normal != DVec3::ZERO && better {
             touched = Some((rate, n));
         }
     });

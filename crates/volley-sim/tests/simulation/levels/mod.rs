@@ -6,6 +6,7 @@
 
 mod corner;
 mod files;
+mod flat;
 mod hashes;
 mod plate;
 mod terrain;
