@@ -1,6 +1,7 @@
 //! The scene's level surfaces, meshes and heightfields, as lit opaque triangles: every triangle
-//! the contact meets ([`MeshSurface::triangles`], [`HeightfieldSurface::triangles`]), with one
-//! normal per face, so what is drawn is what a body hits and nothing is smoothed over.
+//! the contact meets ([`crate::contact::MeshSurface::triangles`],
+//! [`crate::contact::HeightfieldSurface::triangles`]), with one normal per face, so what is
+//! drawn is what a body hits and nothing is smoothed over.
 //!
 //! Level geometry is static: the renderer builds these vertices once per scene and render
 //! origin ([`LevelKey`]) and keeps them on the GPU, instead of rebuilding them every frame as
@@ -9,7 +10,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 
-use crate::contact::{Contacts, HeightfieldSurface, MeshSurface};
+use crate::contact::Contacts;
 use crate::render::draw::{Rgba, rel};
 
 /// Colour of mesh surfaces (steel).
@@ -71,29 +72,14 @@ impl LevelKey {
 /// to `origin`: meshes in scene order, then heightfields.
 pub fn level_vertices(contacts: &Contacts, origin: DVec3, out: &mut Vec<LitVertex>) {
     for m in &contacts.meshes {
-        push_mesh(m, origin, out);
+        out.extend(m.triangles().flat_map(|t| lit(t, MESH, origin)));
     }
     for h in &contacts.heightfields {
-        push_heightfield(h, origin, out);
+        out.extend(h.triangles().flat_map(|t| lit(t, TERRAIN, origin)));
     }
 }
 
-fn push_mesh(m: &MeshSurface, origin: DVec3, out: &mut Vec<LitVertex>) {
-    out.reserve(3 * m.geometry.triangles.len());
-    for t in m.triangles() {
-        push(t, MESH, origin, out);
-    }
-}
-
-fn push_heightfield(h: &HeightfieldSurface, origin: DVec3, out: &mut Vec<LitVertex>) {
-    let (cx, cy) = h.grid.cells();
-    out.reserve(6 * cx as usize * cy as usize);
-    for t in h.triangles() {
-        push(t, TERRAIN, origin, out);
-    }
-}
-
-fn push(t: [DVec3; 3], colour: Rgba, origin: DVec3, out: &mut Vec<LitVertex>) {
+fn lit(t: [DVec3; 3], colour: Rgba, origin: DVec3) -> [LitVertex; 3] {
     // Degenerate triangles never reach a surface (the readers drop them), and a heightfield's
     // cell has positive area, so the normal exists; a zero one still draws, unlit.
     let normal = (t[1] - t[0])
@@ -101,11 +87,9 @@ fn push(t: [DVec3; 3], colour: Rgba, origin: DVec3, out: &mut Vec<LitVertex>) {
         .normalize_or_zero()
         .as_vec3()
         .to_array();
-    for p in t {
-        out.push(LitVertex {
-            position: rel(p, origin),
-            normal,
-            colour,
-        });
-    }
+    t.map(|p| LitVertex {
+        position: rel(p, origin),
+        normal,
+        colour,
+    })
 }
