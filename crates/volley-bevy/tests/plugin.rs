@@ -454,3 +454,18 @@ fn keys_fire_and_aim_the_launcher_at_the_target() {
     };
     assert!(elevation < 45.0, "{elevation}");
 }
+
+#[test]
+fn a_recording_that_does_not_read_stops_the_world_naming_the_file_and_never_panics() {
+    let mut app = app_of(VolleyPlugin::replay(
+        b"VOLLEY? not a recording".to_vec(),
+        "broken.vrec",
+    ));
+    for _ in 0..10 {
+        frame(&mut app, Duration::from_millis(20));
+    }
+    let why = volley(&app).stopped().expect("stopped").to_string();
+    assert!(why.contains("broken.vrec"), "{why}");
+    assert_eq!(volley(&app).world().tick(), 0);
+    assert!(!app.world_mut().resource_mut::<Volley>().push(Command::Fire));
+}
