@@ -621,3 +621,9 @@ fn draw(
         }
     });
 }
+
+// The README's example, compiled as a doc test (not run: it opens a window) so it cannot go
+// stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
