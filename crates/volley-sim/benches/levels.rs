@@ -17,6 +17,8 @@
 //! from the plane's (the same physics, so the accuracy the mesh costs is that distance). A
 //! timing, not a test: it asserts nothing.
 
+#[path = "../../../benches/common/grid.rs"]
+mod grid;
 #[path = "../../../benches/common/splice.rs"]
 mod splice;
 
@@ -24,32 +26,10 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use glam::DVec3;
+use grid::grid;
 use volley_sim::{
     BodySpec, Ground, Integrator, LevelSource, MeshGeometry, MeshSurface, Scene, Transform, World,
 };
-
-/// A grid mesh of `n x n` quads (2 n^2 triangles) over `size` metres, heights `z(x, y)`.
-fn grid(n: usize, size: f64, z: impl Fn(f64, f64) -> f64) -> MeshGeometry {
-    let mut v = Vec::with_capacity((n + 1) * (n + 1));
-    for j in 0..=n {
-        for i in 0..=n {
-            let (x, y) = (
-                size * (i as f64 / n as f64 - 0.5),
-                size * (j as f64 / n as f64 - 0.5),
-            );
-            v.push(DVec3::new(x, y, z(x, y)));
-        }
-    }
-    let mut t = Vec::with_capacity(2 * n * n);
-    let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-    for j in 0..n {
-        for i in 0..n {
-            t.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            t.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    MeshGeometry::new(v, t)
-}
 
 fn balls(n: usize) -> Vec<BodySpec> {
     let mut s = 0x1234_5678_9abc_def0u64;
@@ -146,9 +126,7 @@ fn main() {
     let (flat, build_ms, bytes) = mesh_scene(grid(224, 100.0, |_, _| 0.0));
     let tris = flat.meshes()[0].geometry.triangles.len();
     let (flat_ns, flat_world) = time(&flat, ticks);
-    let (wavy, _, _) = mesh_scene(grid(224, 100.0, |x, y| {
-        0.3 * libm::sin(0.5 * x) * libm::cos(0.4 * y)
-    }));
+    let (wavy, _, _) = mesh_scene(grid(224, 100.0, grid::wavy));
     let (wavy_ns, _) = time(&wavy, ticks);
     // The flat mesh is the plane's physics where it is under them: how far the bodies the
     // plane ends inside the mesh's square (1 m from its edge) end from the plane's. The others

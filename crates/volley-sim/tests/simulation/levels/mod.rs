@@ -9,6 +9,7 @@ mod files;
 mod flat;
 mod hashes;
 mod plate;
+mod shots;
 mod terrain;
 
 use volley_sim::internals::clock::VirtualClock;

@@ -2,15 +2,11 @@
 //! from 0.5 to 90 degrees, hits on a face's diagonal, an edge and a vertex; and the tunnelling
 //! count of seeded shots.
 
-use glam::DVec3;
 use volley_sim::{Detection, Surface};
 
 use super::{events, every, impacts, load, with};
 
-/// The plate's front face (m): its centre at x = 50, half its 1 cm thickness.
-const FACE: f64 = 50.0 - 0.005;
-/// The bullet's radius (m).
-const R: f64 = 0.00381;
+use super::shots::{FACE, R, plate_shots, seed};
 
 /// Tolerance on a time of impact (s). The root finder converges to a few ulps of the step's
 /// time (1e-17 s at 30 Hz); the closed form's own rounding is a few ulps of 0.05 s. 1e-9 s is
@@ -153,22 +149,9 @@ fn a_hit_on_the_shared_diagonal_an_edge_and_a_vertex_bounces_off_that_feature() 
     }
 }
 
-/// A small seeded generator for the shots (splitmix64), so the count is the same everywhere.
-struct Shots(u64);
-
-impl Shots {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-/// Shots per integrator and rate: `VOLLEY_SHOTS` (the benchmark's 1e6 runs in release with
-/// `VOLLEY_SHOTS=1000000 cargo test -p volley-sim --release --test simulation never_tunnel --
-/// --nocapture`), else a few hundred.
+/// Shots per integrator and rate: `VOLLEY_SHOTS`, else a few hundred. The 1e6 per
+/// integrator and rate are fired by `scripts/bench-levels` (BENCHMARKS.md, "Level peers"), with
+/// the same shots (`shots.rs`).
 fn shots() -> usize {
     std::env::var("VOLLEY_SHOTS")
         .ok()
@@ -182,34 +165,11 @@ fn seeded_shots_at_900_m_s_never_tunnel_through_the_plate() {
     let n = shots();
     for dt in [1.0f64 / 30.0, 1.0 / 60.0] {
         for integrator in every(&base) {
-            let mut shot = Shots(0x5eed ^ integrator as u64 ^ (dt.to_bits() << 1));
             let mut scene = with(&base, integrator);
             scene.set_dt(dt).unwrap();
             // Every shot at once: bodies do not touch each other, so a world of them is the
             // same as one world each.
-            let mut bodies = Vec::with_capacity(n);
-            for _ in 0..n {
-                // Grazing included: 0.5 to 90 degrees from the face, any heading about x, from
-                // 1 to 60 m of flight before the face (at most 0.067 s: gravity's drop is below
-                // 2.2 cm), aimed inside the face's 2 m square less 5 cm.
-                let angle = (0.5 + 89.5 * shot.next()).to_radians();
-                let heading = std::f64::consts::TAU * shot.next();
-                let dir = DVec3::new(
-                    libm::sin(angle),
-                    libm::cos(angle) * libm::cos(heading),
-                    libm::cos(angle) * libm::sin(heading),
-                );
-                let aim = DVec3::new(
-                    FACE - R,
-                    1.9 * shot.next() - 0.95,
-                    1.5 + 1.9 * shot.next() - 0.95,
-                );
-                let before = 1.0 + 59.0 * shot.next();
-                let mut b = base.bodies()[0];
-                b.position = aim - dir * before;
-                b.velocity = 900.0 * dir;
-                bodies.push(b);
-            }
+            let bodies = plate_shots(seed(integrator, dt), n, base.bodies()[0]);
             let scene = scene.edit().bodies(bodies).build().unwrap();
             let ticks = scene.ticks_until(0.2);
             let (events, world) = events(&scene, ticks);
