@@ -4,42 +4,28 @@
 //! (`benches/levels_peer.rs`, which includes this file by path), so both fire the same shots.
 
 use glam::DVec3;
-use volley_sim::{BodySpec, Integrator};
+use volley_sim::{BodySpec, Integrator, SplitMix64};
 
 /// The plate's front face (m): its centre at x = 50, half its 1 cm thickness.
 pub const FACE: f64 = 50.0 - 0.005;
 /// The bullet's radius (m).
 pub const R: f64 = 0.00381;
 
-/// A small seeded generator for the shots (splitmix64), so the count is the same everywhere.
-pub struct Shots(pub u64);
-
-impl Shots {
-    /// The next number in [0, 1).
-    pub fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// The seed of the shots for one integrator and step.
 pub fn seed(integrator: Integrator, dt: f64) -> u64 {
     0x5eed ^ integrator as u64 ^ (dt.to_bits() << 1)
 }
 
-/// `n` shots from `seed`, each the scene's bullet `template` moved and relaunched.
+/// `n` shots from `seed` (through the world's own generator, so the same everywhere), each the scene's bullet `template` moved and relaunched.
 pub fn plate_shots(seed: u64, n: usize, template: BodySpec) -> Vec<BodySpec> {
-    let mut shot = Shots(seed);
+    let mut shot = SplitMix64(seed);
     (0..n)
         .map(|_| {
             // Grazing included: 0.5 to 90 degrees from the face, any heading about x, from 1 to
             // 60 m of flight before the face (at most 0.067 s: gravity's drop is below 2.2 cm),
             // aimed inside the face's 2 m square less 5 cm.
-            let angle = (0.5 + 89.5 * shot.next()).to_radians();
-            let heading = std::f64::consts::TAU * shot.next();
+            let angle = (0.5 + 89.5 * shot.next_f64()).to_radians();
+            let heading = std::f64::consts::TAU * shot.next_f64();
             let dir = DVec3::new(
                 libm::sin(angle),
                 libm::cos(angle) * libm::cos(heading),
@@ -47,10 +33,10 @@ pub fn plate_shots(seed: u64, n: usize, template: BodySpec) -> Vec<BodySpec> {
             );
             let aim = DVec3::new(
                 FACE - R,
-                1.9 * shot.next() - 0.95,
-                1.5 + 1.9 * shot.next() - 0.95,
+                1.9 * shot.next_f64() - 0.95,
+                1.5 + 1.9 * shot.next_f64() - 0.95,
             );
-            let before = 1.0 + 59.0 * shot.next();
+            let before = 1.0 + 59.0 * shot.next_f64();
             BodySpec {
                 position: aim - dir * before,
                 velocity: 900.0 * dir,
