@@ -9,16 +9,9 @@ use std::path::PathBuf;
 
 use volley::render::Gpu;
 
-/// Whether the tests run in CI (`CI=true`).
-pub fn in_ci() -> bool {
-    std::env::var("CI").is_ok_and(|v| v == "true" || v == "1")
-}
-
-/// Skips (outside CI) or fails (in CI) a test that cannot run here, with the reason.
-pub fn unavailable(test: &str, why: &str) {
-    assert!(!in_ci(), "{test}: {why} (CI=true requires it)");
-    eprintln!("skipping {test}: {why}");
-}
+mod ci;
+#[allow(unused_imports)] // each test crate uses some of them
+pub use ci::{has, in_ci, unavailable};
 
 /// A headless device, or `None` after reporting why there is none.
 pub fn gpu(test: &str) -> Option<Gpu> {

@@ -12,13 +12,6 @@ fn volley() -> Command {
     Command::new(env!("CARGO_BIN_EXE_volley"))
 }
 
-fn has(program: &str) -> bool {
-    Command::new("sh")
-        .args(["-c", &format!("command -v {program}")])
-        .output()
-        .is_ok_and(|o| o.status.success())
-}
-
 #[test]
 fn the_window_opens_draws_frames_and_exits_0_under_xvfb() {
     let test = "the_window_opens_draws_frames_and_exits_0_under_xvfb";
@@ -50,7 +43,7 @@ fn without_a_display_the_window_exits_4_naming_the_headless_mode() {
 #[test]
 fn without_an_adapter_the_window_exits_4_naming_the_headless_mode() {
     let test = "without_an_adapter_the_window_exits_4_naming_the_headless_mode";
-    if !has("xvfb-run") {
+    if !support::has("xvfb-run") {
         return support::unavailable(test, "xvfb-run is not installed (apt-get install xvfb)");
     }
     // A display but no adapter: WebGPU is the browser's backend, absent from native builds.
@@ -98,7 +91,7 @@ pub(crate) fn under_xvfb_paced(
     size: &str,
     pacing: &[&str],
 ) -> Option<std::process::Output> {
-    if !has("xvfb-run") {
+    if !support::has("xvfb-run") {
         support::unavailable(test, "xvfb-run is not installed (apt-get install xvfb)");
         return None;
     }
@@ -127,7 +120,7 @@ pub(crate) fn under_xvfb_in(
     args: &[&str],
     size: &str,
 ) -> Option<std::process::Output> {
-    if !has("xvfb-run") {
+    if !support::has("xvfb-run") {
         support::unavailable(test, "xvfb-run is not installed (apt-get install xvfb)");
         return None;
     }

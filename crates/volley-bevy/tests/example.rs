@@ -6,25 +6,13 @@
 //! machine without Xvfb or a Vulkan driver skips with the reason; with `CI=true` (whose
 //! `.ci/run` installs both: Mesa's lavapipe) it fails instead.
 
+#[path = "../../../tests/support/ci.rs"]
+mod ci;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn in_ci() -> bool {
-    std::env::var("CI").is_ok_and(|v| v == "true" || v == "1")
-}
-
-/// Skips (outside CI) or fails (in CI) with the reason.
-fn unavailable(test: &str, why: &str) {
-    assert!(!in_ci(), "{test}: {why} (CI=true requires it)");
-    eprintln!("skipping {test}: {why}");
-}
-
-fn has(program: &str) -> bool {
-    Command::new("sh")
-        .args(["-c", &format!("command -v {program}")])
-        .output()
-        .is_ok_and(|o| o.status.success())
-}
+use ci::{has, unavailable};
 
 /// A Vulkan driver's manifest, as the loader finds them: Mesa's lavapipe is the software one.
 fn vulkan_driver() -> bool {
