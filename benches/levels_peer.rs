@@ -27,9 +27,11 @@
 //!   so the same tick positions), and each tick a ball of the shot's radius is swept by parry's
 //!   `cast_shapes` along the straight chord from the last tick's position to this one, against
 //!   the same `TriMesh`; the first hit's time is the tick's start plus the fraction of the
-//!   step, its point the chord's at that fraction. Compared with Volley's first impact on the
-//!   same shot: its time from the impact event, its point the closed form `p0 + v0 t + g t^2 / 2`
-//!   at that time (velocity Verlet, which is exact under gravity, so that is Volley's own path).
+//!   step, its point the chord's at that fraction. On the plate both are compared with the
+//!   closed form (`x` is linear in time, so the touch is at `(FACE - r - x0) / vx`, at the
+//!   parabola's point then); on the terrain, which has none, the chord is compared with
+//!   Volley's first impact (its time from the event, its point the parabola's at that time:
+//!   velocity Verlet is exact under gravity, so that is Volley's own path).
 //!
 //! Timings are medians of three rounds taken alternately in the same run; a timing, not a test,
 //! so it asserts nothing.
