@@ -10,7 +10,9 @@
 //!
 //! Environment: `VOLLEY_SHOTS` (Volley's tunnelling count per integrator and rate, default
 //! 1e6), `VOLLEY_PEER_SHOTS` (the shots rapier and the cost comparison fire, default 1e5),
-//! `VOLLEY_BENCH_WRITE=FILE` (an absolute path) to rewrite the block of that file.
+//! `VOLLEY_BENCH_WRITE=FILE` (an absolute path) to rewrite the block of that file,
+//! `VOLLEY_RAPIER_CCD_SUBSTEPS` (rapier's `max_ccd_substeps`, default its 1: PR #157 says more
+//! reduce CCD's "time loss"; 4 and 16 left the tunnel count where it was).
 //!
 //! What each contender is:
 //! - **Volley**: the bundled `hard/plate_bullet` scene (a closed box mesh of a 1 cm plate, read
@@ -157,6 +159,13 @@ fn world_mesh(mesh: &MeshSurface) -> (Vec<Vector>, Vec<[u32; 3]>) {
 /// shots go through worlds of this many each.
 const RAPIER_BATCH: usize = 100;
 
+/// Rapier's `max_ccd_substeps` from `VOLLEY_RAPIER_CCD_SUBSTEPS`, else rapier's default (1).
+fn ccd_substeps() -> Option<usize> {
+    std::env::var("VOLLEY_RAPIER_CCD_SUBSTEPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+}
+
 /// A collision group of `member` that meets `other` only.
 fn meets(member: Group, other: Group) -> InteractionGroups {
     InteractionGroups::all()
@@ -174,6 +183,9 @@ fn rapier_run(scene: &Scene, ticks: u64) -> (usize, f64) {
         let mut w = PhysicsWorld::new();
         w.gravity = v(scene.forces().gravity.unwrap_or(DVec3::ZERO));
         w.integration_parameters.dt = scene.dt();
+        if let Some(n) = ccd_substeps() {
+            w.integration_parameters.max_ccd_substeps = n;
+        }
         let plate = ColliderBuilder::trimesh(vertices.clone(), indices.clone())
             .expect("the plate is a valid mesh")
             .restitution(mesh.restitution)
